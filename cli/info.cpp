@@ -1,0 +1,76 @@
+#include "cli/info.h"
+
+#include <cstdio>
+
+#include "kernel/convexity.h"
+
+namespace hedra::cli {
+namespace {
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+
+std::string join(const std::vector<int>& ids) {
+  std::string s;
+  for (size_t i = 0; i < ids.size(); ++i) s += (i ? ", " : "") + std::to_string(ids[i]);
+  return s.empty() ? "-" : s;
+}
+
+}  // namespace
+
+nlohmann::json info_json(const std::vector<NamedBody>& bodies, bool with_matrix) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const NamedBody& nb : bodies) {
+    const Body& b = nb.body;
+    ConvexityReport c = convexity(b);
+    nlohmann::json j = {{"name", nb.name},          {"vertices", b.vertex_count()},
+                        {"edges", b.edge_count()},  {"faces", b.face_count()},
+                        {"closed", true},           {"volume", b.volume()},
+                        {"area", b.area()},         {"convex", c.convex},
+                        {"nonconvex_faces", c.nonconvex_faces}};
+    if (with_matrix || b.face_count() <= kSmallBodyFaces) {
+      nlohmann::json columns = nlohmann::json::array();
+      for (int f = 0; f < b.face_count(); ++f) {
+        const Vec4& k = b.plane(f).coefficients;
+        columns.push_back({k[0], k[1], k[2], k[3]});
+      }
+      j["matrix"] = columns;  // one (a, b, c, d) column per face
+    }
+    list.push_back(j);
+  }
+  return {{"bodies", list}};
+}
+
+void print_info_table(std::ostream& out, const std::vector<NamedBody>& bodies, bool with_matrix) {
+  char line[512];
+  std::snprintf(line, sizeof line, "%-12s %8s %6s %6s %6s %14s %14s %6s  %s\n", "body", "vertices",
+                "edges", "faces", "closed", "volume", "area", "convex", "non-convex faces");
+  out << line;
+  for (const NamedBody& nb : bodies) {
+    const Body& b = nb.body;
+    ConvexityReport c = convexity(b);
+    std::snprintf(line, sizeof line, "%-12s %8d %6d %6d %6s %14s %14s %6s  %s\n", nb.name.c_str(),
+                  b.vertex_count(), b.edge_count(), b.face_count(), "yes", num(b.volume()).c_str(),
+                  num(b.area()).c_str(), c.convex ? "yes" : "no", join(c.nonconvex_faces).c_str());
+    out << line;
+  }
+  for (const NamedBody& nb : bodies) {
+    const Body& b = nb.body;
+    if (!with_matrix && b.face_count() > kSmallBodyFaces) continue;
+    out << "\nbody matrix of " << nb.name << " (4 x " << b.face_count()
+        << "; column j = a, b, c, d of face j, inner normals):\n";
+    for (int row = 0; row < 4; ++row) {
+      out << "  " << "abcd"[row] << " ";
+      for (int f = 0; f < b.face_count(); ++f) {
+        std::snprintf(line, sizeof line, " %9.4g", b.matrix()(row, f));
+        out << line;
+      }
+      out << "\n";
+    }
+  }
+}
+
+}  // namespace hedra::cli
