@@ -97,10 +97,18 @@ PolygonSoup parse_stl(const std::string& path, const std::string& bytes) {
   std::uint32_t n = 0;
   std::memcpy(&n, bytes.data() + 80, 4);
   const std::uint64_t expected = 84 + 50 * static_cast<std::uint64_t>(n);
+  const std::uint64_t size = bytes.size();
+  std::string why;
+  if ((size - 84) % 50 == 0)
+    why = "; the file holds " + std::to_string((size - 84) / 50) +
+          " whole triangles: wrong triangle count in the header";
+  else if (size < expected)
+    why = ": truncated file";
+  else
+    why = ": trailing bytes or a wrong triangle count";
   throw InvalidInput(path + ": binary STL header says " + std::to_string(n) +
                      " triangles, which need " + std::to_string(expected) +
-                     " bytes, but the file has " + std::to_string(bytes.size()) +
-                     (bytes.size() < expected ? " (truncated file?)" : " (wrong triangle count?)"));
+                     " bytes, but the file has " + std::to_string(size) + why);
 }
 
 std::string format_stl_binary(const PolygonSoup& soup) {

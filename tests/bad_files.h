@@ -42,8 +42,8 @@ inline std::vector<BadFile> bad_files() {
   return {
       {"empty.off", "", "empty file"},
       {"empty.stl", "", "empty file"},
-      {"truncated.stl", truncated, "truncated"},
-      {"wrong_count.stl", binary_stl(13, 12), "header says 13 triangles"},
+      {"truncated.stl", truncated, "but the file has 654: truncated file"},
+      {"wrong_count.stl", binary_stl(13, 12), "header says 13 triangles, which need 734 bytes, but the file has 684; the file holds 12 whole triangles: wrong triangle count"},
       {"two_vertices.off", cube_off_with("1 1 -1", "2 0 1"), ":13: face 2 has 2 vertices"},
       {"out_of_range.off", cube_off_with("1 1 -1", "4 0 1 5 40"), "refers to vertex 40, out of range"},
       {"nan.off", cube_off_with("nan 1 -1"), ":6: x is not finite"},

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "kernel/primitives.h"
 
@@ -76,6 +77,25 @@ TEST(Convexity, ExactAndRotationFormulationsAgree) {
     // The raw-data overload agrees with the Body overload.
     EXPECT_EQ(convexity(c.body.vertices(), c.body.faces()).nonconvex_faces, exact.nonconvex_faces)
         << c.name;
+  }
+}
+
+TEST(Convexity, VerdictSurvivesRandomRigidMotionsAndScales) {
+  // Seeded property test over wide coordinate ranges: the convex/non-convex verdict and the
+  // volume (relative 1e-12) do not change under rotation, translation and scaling.
+  std::mt19937 random(20261122);
+  std::uniform_real_distribution<double> unit(-1, 1), exponent(-8, 8);
+  for (const Case& c : cases()) {
+    for (int trial = 0; trial < 12; ++trial) {
+      const double s = std::pow(10.0, exponent(random));
+      Transform t = Transform::rotation({unit(random), unit(random), unit(random)}, 360 * unit(random)) *
+                    Transform::scaling(s) *
+                    Transform::translation(s * Vec3(unit(random), unit(random), unit(random)) * 100);
+      Body moved = c.body.transformed(t);
+      EXPECT_EQ(convexity(moved).convex, c.convex) << c.name << " trial " << trial;
+      EXPECT_NEAR(moved.volume() / (s * s * s), c.body.volume(), 1e-12 * c.body.volume())
+          << c.name << " trial " << trial;
+    }
   }
 }
 
