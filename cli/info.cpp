@@ -2,6 +2,10 @@
 
 #include <cstdio>
 
+#include <filesystem>
+
+#include "io/mesh_io.h"
+#include "io/scene_json.h"
 #include "kernel/convexity.h"
 
 namespace hedra::cli {
@@ -31,6 +35,7 @@ nlohmann::json info_json(const std::vector<NamedBody>& bodies, bool with_matrix)
                         {"closed", true},           {"volume", b.volume()},
                         {"area", b.area()},         {"convex", c.convex},
                         {"nonconvex_faces", c.nonconvex_faces}};
+    if (!nb.lod_note.empty()) j["lod"] = nb.lod_note;
     if (with_matrix || b.face_count() <= kSmallBodyFaces) {
       nlohmann::json columns = nlohmann::json::array();
       for (int f = 0; f < b.face_count(); ++f) {
@@ -57,6 +62,13 @@ void print_info_table(std::ostream& out, const std::vector<NamedBody>& bodies, b
                   num(b.area()).c_str(), c.convex ? "yes" : "no", join(c.nonconvex_faces).c_str());
     out << line;
   }
+  bool any_lod = false;
+  for (const NamedBody& nb : bodies) {
+    if (nb.lod_note.empty()) continue;
+    if (!any_lod) out << "\nlevel of detail:\n";
+    any_lod = true;
+    out << "  " << nb.name << ": " << nb.lod_note << "\n";
+  }
   for (const NamedBody& nb : bodies) {
     const Body& b = nb.body;
     if (!with_matrix && b.face_count() > kSmallBodyFaces) continue;
@@ -71,6 +83,24 @@ void print_info_table(std::ostream& out, const std::vector<NamedBody>& bodies, b
       out << "\n";
     }
   }
+}
+
+std::vector<NamedBody> load_bodies(const std::string& path, double coplanar_tolerance,
+                                   double planarity_tolerance) {
+  std::vector<NamedBody> named;
+  if (io::is_scene_path(path)) {
+    Scene scene = io::read_scene(path);
+    for (const SceneBody* b : scene.visible_bodies()) named.push_back({b->name, b->body, b->lod_note});
+    return named;
+  }
+  io::ReadOptions options;
+  options.merge.coplanar_tolerance = coplanar_tolerance;
+  options.merge.planarity_tolerance = planarity_tolerance;
+  std::vector<Body> bodies = io::read_bodies(path, options);
+  const std::string stem = std::filesystem::path(path).stem().string();
+  for (size_t i = 0; i < bodies.size(); ++i)
+    named.push_back({bodies.size() == 1 ? stem : stem + "#" + std::to_string(i), bodies[i], ""});
+  return named;
 }
 
 }  // namespace hedra::cli

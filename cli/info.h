@@ -14,7 +14,13 @@ namespace hedra::cli {
 struct NamedBody {
   std::string name;
   Body body;
+  std::string lod_note;  // how a curved body's tessellation was chosen, if it was
 };
+
+/// The bodies of a scene file (visible ones) or of a mesh file (one per component).
+/// \throw InvalidInput, IoError.
+std::vector<NamedBody> load_bodies(const std::string& path, double coplanar_tolerance = 0,
+                                   double planarity_tolerance = -1);
 
 /// Bodies with at most this many faces print their body matrix without --matrix.
 constexpr int kSmallBodyFaces = 12;

@@ -222,11 +222,11 @@ std::string format_ply(const PolygonSoup& soup) {
   size_t largest = 0;
   for (const auto& poly : soup.polygons) largest = std::max(largest, poly.size());
   const std::string count_type = largest > 255 ? "uint" : "uchar";
-  std::string out = "ply\nformat ascii 1.0\ncomment written by hedra\nelement vertex " +
-                    std::to_string(soup.vertices.size()) +
-                    "\nproperty double x\nproperty double y\nproperty double z\nelement face " +
-                    std::to_string(soup.polygons.size()) +
-                    "\nproperty list " + count_type + " int vertex_indices\nend_header\n";
+  std::string out = "ply\nformat ascii 1.0\ncomment written by hedra\n";
+  out += "element vertex " + std::to_string(soup.vertices.size()) + "\n";
+  out += "property double x\nproperty double y\nproperty double z\n";
+  out += "element face " + std::to_string(soup.polygons.size()) + "\n";
+  out += "property list " + count_type + " int vertex_indices\nend_header\n";
   char buf[96];
   for (const Vec3& p : soup.vertices) {
     std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g\n", p.x(), p.y(), p.z());

@@ -32,7 +32,10 @@ struct UnionFind {
 
 }  // namespace
 
-std::vector<Body> bodies_from_soup(const PolygonSoup& input, const MergeOptions& options) {
+namespace {
+
+std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_ids,
+                        const MergeOptions& options) {
   // Step 1: drop vertices no polygon uses, then the combinatorial checks on the soup.
   PolygonSoup soup;
   {
@@ -86,6 +89,7 @@ std::vector<Body> bodies_from_soup(const PolygonSoup& input, const MergeOptions&
     const auto& sup = supports[s];
     const Vec3 unit = normals[s].normalized();
     auto coplanar = [&](int q) {
+      if (plane_ids) return (*plane_ids)[q] == (*plane_ids)[s];
       if (normals[q].dot(normals[s]) <= 0) return false;
       for (int w : polys[q]) {
         if (orient3d(v[sup[0]], v[sup[1]], v[sup[2]], v[w]) == Sign::Zero) continue;
@@ -157,7 +161,43 @@ std::vector<Body> bodies_from_soup(const PolygonSoup& input, const MergeOptions&
     }
   }
 
-  // Step 5: connected components (polygons sharing an edge), one Body each.
+  // Step 5: drop vertices that only two faces of different planes share: they lie on the line
+  // where the two planes meet, between their two neighbours, and only split an edge in two
+  // (corefinement and some exporters leave them). Decided combinatorially, so rounding of the
+  // coordinates cannot change the decision.
+  {
+    std::vector<int> first_region(v.size(), -1), second_region(v.size(), -1), faces_at(v.size(), 0);
+    for (int r = 0; r < regions; ++r)
+      for (const Face& face : faces_of_region[r])
+        for (const auto& loop : face.loops)
+          for (int w : loop) {
+            ++faces_at[w];
+            if (first_region[w] < 0) first_region[w] = r;
+            else if (second_region[w] < 0) second_region[w] = r;
+          }
+    std::vector<char> removable(v.size(), 0);
+    for (size_t w = 0; w < v.size(); ++w)
+      removable[w] = faces_at[w] == 2 && second_region[w] >= 0 && first_region[w] != second_region[w];
+    // A loop must keep three vertices; if it would not, its vertices stay (in every face).
+    for (bool changed = true; changed;) {
+      changed = false;
+      for (int r = 0; r < regions; ++r)
+        for (const Face& face : faces_of_region[r])
+          for (const auto& loop : face.loops) {
+            size_t kept = 0;
+            for (int w : loop) kept += !removable[w];
+            if (kept >= 3) continue;
+            for (int w : loop)
+              if (removable[w]) { removable[w] = 0; changed = true; }
+          }
+    }
+    for (int r = 0; r < regions; ++r)
+      for (Face& face : faces_of_region[r])
+        for (auto& loop : face.loops)
+          std::erase_if(loop, [&](int w) { return removable[w] != 0; });
+  }
+
+  // Step 6: connected components (polygons sharing an edge), one Body each.
   UnionFind components(n);
   for (int p = 0; p < n; ++p)
     for (size_t i = 0; i < polys[p].size(); ++i)
@@ -203,6 +243,19 @@ std::vector<Body> bodies_from_soup(const PolygonSoup& input, const MergeOptions&
     }
   }
   return bodies;
+}
+
+}  // namespace
+
+std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const MergeOptions& options) {
+  return merge(soup, nullptr, options);
+}
+
+std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const std::vector<int>& plane_ids,
+                                   const MergeOptions& options) {
+  if (plane_ids.size() != soup.polygons.size())
+    throw std::invalid_argument("bodies_from_soup: one plane id per polygon expected");
+  return merge(soup, &plane_ids, options);
 }
 
 }  // namespace hedra

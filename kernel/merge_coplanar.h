@@ -31,4 +31,10 @@ struct MergeOptions {
 /// on the soup first, so numbers refer to the input). Cost O(n log n).
 std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const MergeOptions& options = {});
 
+/// As above, but the caller decides coplanarity: neighbouring polygons with equal
+/// `plane_ids` are merged, others are not. Used where planes were compared exactly before the
+/// coordinates were rounded to double (Boolean results).
+std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const std::vector<int>& plane_ids,
+                                   const MergeOptions& options = {});
+
 }  // namespace hedra
