@@ -1,0 +1,51 @@
+// Exact convex decomposition by plane splitting (algorithms.md §5).
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "kernel/body.h"
+
+namespace hedra {
+
+struct DecomposeOptions {
+  /// More pieces than this is an error (InvalidInput naming the count).
+  int max_pieces = 100000;
+  /// Called after every round of cuts with (pieces done, pieces still open); returning false
+  /// cancels (DecompositionCancelled).
+  std::function<bool(int done, int open)> progress;
+  /// Worker threads for independent pieces (0: TBB's default). The result does not depend on it.
+  int threads = 0;
+  /// Verify the result in exact arithmetic: every piece convex and the pieces' exact volumes
+  /// summing to the input's exact volume (sets Decomposition::verified).
+  bool verify = false;
+};
+
+struct Decomposition {
+  std::vector<Body> pieces;  // convex, interior-disjoint, covering the input; canonical order
+  int cuts = 0;              // plane cuts made
+  bool verified = false;     // exact checks passed (only with DecomposeOptions::verify)
+  double exact_volume = 0;   // input volume from the exact computation (with verify)
+};
+
+class DecompositionCancelled : public std::runtime_error {
+ public:
+  DecompositionCancelled() : std::runtime_error("decomposition cancelled") {}
+};
+
+/// The course's method, exactly: while a piece has a reflex edge, cut it by the plane of a face
+/// at such an edge (the one lying on the most reflex edges, then crossing the fewest faces,
+/// then the first in input order), split it into connected components, continue.
+///
+/// Exactness: points are CGAL Epeck points (cut points are exact intersections of input edges
+/// with input planes); each point also carries the input planes it lies on, so a vertex is on
+/// its own faces' planes symbolically even when rotated coordinates put it a few ulps off.
+/// Input faces whose planes coincide within rounding (kRoundingPlanarity) share one plane.
+/// A convex input comes back as one piece, unchanged. Deterministic for any thread count.
+/// \throw InvalidInput when more than options.max_pieces pieces are needed.
+/// \throw DecompositionCancelled when the progress callback returns false.
+Decomposition decompose(const Body& body, const DecomposeOptions& options = {});
+
+}  // namespace hedra

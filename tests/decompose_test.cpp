@@ -1,0 +1,130 @@
+#include "kernel/decompose.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "decomposition_suite.h"
+#include "kernel/convexity.h"
+#include "kernel/error.h"
+#include "kernel/split.h"
+
+namespace hedra {
+namespace {
+
+double total_volume(const std::vector<Body>& pieces) {
+  double v = 0;
+  for (const Body& p : pieces) v += p.volume();
+  return v;
+}
+
+// Pieces cover the body and do not overlap: at random points, a point inside the body is
+// inside exactly one piece (or on the common boundary of several), a point outside is in none.
+void expect_partition(const Body& body, const std::vector<Body>& pieces, const std::string& name) {
+  std::mt19937 random(42);
+  const Eigen::AlignedBox3d box = body.bbox();
+  std::uniform_real_distribution<double> u(0, 1);
+  int inside_points = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    Vec3 p = box.min() + (box.max() - box.min()).cwiseProduct(Vec3(u(random), u(random), u(random)));
+    const Location where = body.classify(p);
+    int in = 0, on = 0;
+    for (const Body& piece : pieces) {
+      Location l = piece.classify(p);
+      in += l == Location::Inside;
+      on += l == Location::OnBoundary;
+    }
+    if (where == Location::Inside) {
+      ++inside_points;
+      EXPECT_TRUE(in == 1 || (in == 0 && on >= 2)) << name << " at " << p.transpose();
+    } else if (where == Location::Outside) {
+      EXPECT_EQ(in, 0) << name << " at " << p.transpose();
+    }
+  }
+  EXPECT_GT(inside_points, 0) << name;
+}
+
+TEST(Decompose, SuiteExactConvexCoveringAndRotationInvariant) {
+  for (const suite::Shape& shape : suite::shapes(false)) {
+    for (bool rotate : {false, true}) {
+      const Body body = rotate ? suite::rotated(shape.body) : shape.body;
+      const std::string name = shape.name + (rotate ? " (rotated)" : "");
+      DecomposeOptions options;
+      options.verify = true;
+      Decomposition d = decompose(body, options);
+      EXPECT_TRUE(d.verified) << name;
+      for (const Body& piece : d.pieces) EXPECT_TRUE(convexity(piece).convex) << name;
+      EXPECT_NEAR(total_volume(d.pieces), body.volume(), 1e-12 * body.volume()) << name;
+      expect_partition(body, d.pieces, name);
+      if (rotate) {
+        EXPECT_EQ(d.pieces.size(), decompose(shape.body).pieces.size()) << name;
+      }
+    }
+  }
+}
+
+TEST(Decompose, PieceCounts) {
+  EXPECT_EQ(decompose(prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2)).pieces.size(), 2u);
+  EXPECT_EQ(decompose(suite::comb(4)).pieces.size(), 6u);  // the spine and 5 teeth: optimal
+  EXPECT_EQ(decompose(prism({{0, 0}, {4, 0}, {4, 3}, {0, 3}}, 0, 2, {{{1, 1}, {3, 1}, {3, 2}, {1, 2}}}))
+                .pieces.size(),
+            4u);
+  EXPECT_EQ(decompose(suite::staircase(10)).pieces.size(), 10u);
+}
+
+TEST(Decompose, ConvexInputComesBackUnchanged) {
+  Body b = box({0, 0, 0}, {1, 2, 3}).rotated_z(17);
+  Decomposition d = decompose(b);
+  ASSERT_EQ(d.pieces.size(), 1u);
+  EXPECT_EQ(d.pieces[0].vertices(), b.vertices());
+  EXPECT_EQ(d.cuts, 0);
+}
+
+TEST(Decompose, SameResultAtAnyThreadCount) {
+  const Body body = suite::rotated(suite::plate_with_holes(3));
+  DecomposeOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  Decomposition a = decompose(body, one), b = decompose(body, two);
+  ASSERT_EQ(a.pieces.size(), b.pieces.size());
+  for (size_t i = 0; i < a.pieces.size(); ++i) EXPECT_EQ(a.pieces[i].vertices(), b.pieces[i].vertices());
+}
+
+TEST(Decompose, MaxPiecesAndCancellation) {
+  DecomposeOptions limited;
+  limited.max_pieces = 3;
+  EXPECT_THROW(decompose(suite::comb(16), limited), InvalidInput);
+  DecomposeOptions cancel;
+  cancel.progress = [](int, int) { return false; };
+  EXPECT_THROW(decompose(suite::comb(4), cancel), DecompositionCancelled);
+}
+
+TEST(Split, BoxThroughMiddleAndThroughFace) {
+  Body b = box({0, 0, 0}, {2, 2, 2});
+  SplitResult r = split(b, Plane(1, 0, 0, -0.5));  // x = 0.5; above: x > 0.5
+  ASSERT_EQ(r.below.size(), 1u);
+  ASSERT_EQ(r.above.size(), 1u);
+  EXPECT_EQ(r.below[0].volume(), 2);
+  EXPECT_EQ(r.above[0].volume(), 6);
+  EXPECT_EQ(r.below[0].face_count(), 6);
+  SplitResult touching = split(b, Plane(1, 0, 0, 0));  // the plane of a face: nothing below
+  EXPECT_TRUE(touching.below.empty());
+  ASSERT_EQ(touching.above.size(), 1u);
+  EXPECT_EQ(touching.above[0].volume(), 8);
+  SplitResult diagonal = split(b, Plane(1, 1, 0, -2));  // through two vertical edges
+  ASSERT_EQ(diagonal.below.size(), 1u);
+  EXPECT_EQ(diagonal.below[0].volume(), 4);
+  EXPECT_EQ(diagonal.below[0].face_count(), 5);
+}
+
+TEST(Split, ComponentsOnOneSide) {
+  // A U shape cut across its arms: two components above.
+  Body u = prism({{0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 1);
+  SplitResult r = split(u, Plane(0, 1, 0, -2));  // y = 2
+  EXPECT_EQ(r.above.size(), 2u);
+  EXPECT_EQ(r.below.size(), 1u);
+  EXPECT_EQ(r.above[0].volume() + r.above[1].volume() + r.below[0].volume(), u.volume());
+}
+
+}  // namespace
+}  // namespace hedra
