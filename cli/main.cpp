@@ -4,10 +4,12 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cli/decompose.h"
 #include "cli/demo.h"
 #include "cli/info.h"
 #include "io/mesh_io.h"
 #include "io/scene_json.h"
+#include "kernel/decompose.h"
 #include "kernel/error.h"
 
 namespace {
@@ -44,6 +46,17 @@ int main(int argc, char** argv) {
   convert->add_option("--coplanar-tol", coplanar_tolerance, "merge tolerance (default: exact)");
   convert->add_option("--planarity-tol", planarity_tolerance, "planarity tolerance");
 
+  hedra::cli::DecomposeCommand dec;
+  CLI::App* decompose = app.add_subcommand(
+      "decompose", "Split non-convex bodies into convex pieces (mesh file, or every non-convex body of a scene)");
+  decompose->add_option("file", dec.file, "scene or mesh file")->required();
+  decompose->add_option("--method", dec.method, "planes (exact, default) | float | tetgen | cgal");
+  decompose->add_option("--eps", dec.epsilon, "float method: tolerance relative to the body's size");
+  decompose->add_flag("--merge", dec.merge, "join adjacent pieces whose union is convex");
+  decompose->add_option("-o", dec.out_dir, "write one OFF file per piece into this directory");
+  decompose->add_flag("--json", dec.json, "print JSON");
+  decompose->add_option("--threads", dec.threads, "worker threads (default: all)");
+
   CLI::App* demo = app.add_subcommand("demo", "Build the embedded demo scene and report on it");
 
   try {
@@ -77,6 +90,8 @@ int main(int argc, char** argv) {
       }
       std::cout << "wrote " << convert_out << " (" << bodies.size() << " bod"
                 << (bodies.size() == 1 ? "y" : "ies") << ")\n";
+    } else if (*decompose) {
+      hedra::cli::run_decompose(dec, std::cout);
     } else if (*demo) {
       std::cout << "hedra demo: a ground slab with an L-shaped block, a box and a pyramid\n\n";
       const hedra::Scene scene = hedra::cli::demo_scene();
@@ -84,6 +99,15 @@ int main(int argc, char** argv) {
       for (const hedra::SceneBody* b : scene.visible_bodies())
         bodies.push_back({b->name, b->body, b->lod_note});
       hedra::cli::print_info_table(std::cout, bodies, false);
+      const hedra::Decomposition pieces = hedra::decompose(scene.get("L").body);
+      std::cout << "\nconvex decomposition of L (exact plane splitting): " << pieces.pieces.size()
+                << " pieces, " << pieces.cuts << " cut(s)\n";
+      for (size_t i = 0; i < pieces.pieces.size(); ++i) {
+        const hedra::Body& p = pieces.pieces[i];
+        std::cout << "  piece " << i << ": " << p.face_count() << " faces, volume " << p.volume()
+                  << ", box " << p.bbox().min().transpose() << " .. " << p.bbox().max().transpose()
+                  << "\n";
+      }
     }
   } catch (const hedra::InvalidInput& e) {
     std::cerr << "hedra: error: " << e.what() << "\n";

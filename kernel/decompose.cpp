@@ -37,6 +37,10 @@ struct Context {
   std::vector<PL> planes;
   std::vector<Plane> approx;  // unit-normal double planes, same orientation (for the guard)
   double guard = 0;           // rounding guard for input vertices (see side())
+  // The floating-point variant: sides from double evaluation with a tolerance, cut points
+  // computed in double; no symbolic incidence. Kept for the speed–accuracy comparison.
+  bool floating = false;
+  double epsilon = 0;  // absolute, in world units
 };
 
 struct Point {
@@ -68,6 +72,11 @@ std::uint64_t key(int a, int b) {
 // says so, or — for input vertices only — when rounded input coordinates put it within the
 // rounding guard of the plane (a rotated body's coplanar faces).
 int side(const Context& ctx, const Point& pt, int id) {
+  if (ctx.floating) {
+    const Vec3 p(CGAL::to_double(pt.p.x()), CGAL::to_double(pt.p.y()), CGAL::to_double(pt.p.z()));
+    const double v = ctx.approx[id].value(p);
+    return v > ctx.epsilon ? 1 : (v < -ctx.epsilon ? -1 : 0);
+  }
   if (std::binary_search(pt.on.begin(), pt.on.end(), id)) return 0;
   const CGAL::Oriented_side s = ctx.planes[id].oriented_side(pt.p);
   if (s == CGAL::ON_ORIENTED_BOUNDARY) return 0;
@@ -250,11 +259,21 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
     auto it = cut_point.find(k);
     if (it != cut_point.end()) return it->second;
     const int lo = std::min(a, b), hi = std::max(a, b);  // same construction from both sides
-    auto hit = CGAL::intersection(EK::Segment_3(pts[lo].p, pts[hi].p), ctx.planes[plane]);
-    const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
-    if (!x) throw std::logic_error("split: an edge with ends on both sides misses the plane");
     Point q;
-    q.p = *x;
+    if (ctx.floating) {
+      auto d = [](const P3& p) {
+        return Vec3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+      };
+      const Vec3 pa = d(pts[lo].p), pb = d(pts[hi].p);
+      const double va = ctx.approx[plane].value(pa), vb = ctx.approx[plane].value(pb);
+      const Vec3 x = pa + (va / (va - vb)) * (pb - pa);
+      q.p = P3(x.x(), x.y(), x.z());
+    } else {
+      auto hit = CGAL::intersection(EK::Segment_3(pts[lo].p, pts[hi].p), ctx.planes[plane]);
+      const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
+      if (!x) throw std::logic_error("split: an edge with ends on both sides misses the plane");
+      q.p = *x;
+    }
     std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),
                           pts[hi].on.end(), std::back_inserter(q.on));
     add_on(q, plane);
@@ -441,8 +460,9 @@ SplitResult split(const Body& body, const Plane& plane) {
   return result;
 }
 
-Decomposition decompose(const Body& body, const DecomposeOptions& options) {
-  Context ctx;
+namespace {
+
+Decomposition run(const Body& body, const DecomposeOptions& options, Context& ctx) {
   Piece whole = piece_of(body, ctx);
   std::vector<Piece> open = components(whole.pts, whole.tris);
   std::vector<Piece> done;
@@ -508,6 +528,30 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
   }
   for (const Piece& p : done) out.pieces.push_back(body_of(p));
   return out;
+}
+
+}  // namespace
+
+Decomposition decompose(const Body& body, const DecomposeOptions& options) {
+  Context ctx;
+  return run(body, options, ctx);
+}
+
+Decomposition decompose_float(const Body& body, double epsilon, const DecomposeOptions& options) {
+  if (!(epsilon >= 0)) throw InvalidInput("decompose_float: epsilon must be >= 0");
+  Context ctx;
+  ctx.floating = true;
+  ctx.epsilon = epsilon * body.scale();
+  try {
+    Decomposition d = run(body, options, ctx);
+    for (const Body& piece : d.pieces)
+      if (piece.volume() <= 0) throw DecompositionFailed("a piece has no volume");
+    return d;
+  } catch (const DecompositionCancelled&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw DecompositionFailed(e.what());
+  }
 }
 
 }  // namespace hedra

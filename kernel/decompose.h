@@ -28,11 +28,21 @@ struct Decomposition {
   int cuts = 0;              // plane cuts made
   bool verified = false;     // exact checks passed (only with DecomposeOptions::verify)
   double exact_volume = 0;   // input volume from the exact computation (with verify)
+  /// Pieces that could not be represented in double (decompose_cgal only: CGAL's exact pieces
+  /// include slivers whose corners coincide after rounding). Not in `pieces`.
+  int degenerate_pieces = 0;
 };
 
 class DecompositionCancelled : public std::runtime_error {
  public:
   DecompositionCancelled() : std::runtime_error("decomposition cancelled") {}
+};
+
+/// The floating-point variant failed (a crack, a broken piece, a loop that found no cut).
+class DecompositionFailed : public std::runtime_error {
+ public:
+  explicit DecompositionFailed(const std::string& why)
+      : std::runtime_error("floating-point decomposition failed: " + why) {}
 };
 
 /// The course's method, exactly: while a piece has a reflex edge, cut it by the plane of a face
@@ -47,5 +57,18 @@ class DecompositionCancelled : public std::runtime_error {
 /// \throw InvalidInput when more than options.max_pieces pieces are needed.
 /// \throw DecompositionCancelled when the progress callback returns false.
 Decomposition decompose(const Body& body, const DecomposeOptions& options = {});
+
+/// The same algorithm in plain floating point: a point is on a plane when its double distance
+/// is within epsilon · body.scale(), cut points are rounded. No symbolic incidence. Kept for
+/// the speed–accuracy comparison: it is allowed to fail, and reports how.
+/// \throw DecompositionFailed, DecompositionCancelled, InvalidInput (max pieces).
+Decomposition decompose_float(const Body& body, double epsilon,
+                              const DecomposeOptions& options = {});
+
+/// CGAL's convex_decomposition_3 on a Nef polyhedron (exact kernel), for comparison: the
+/// time includes building the Nef polyhedron from the body. Pieces rounded to double; slivers
+/// that collapse when rounded are counted in degenerate_pieces.
+/// Implemented in cgal_decompose.cpp.
+Decomposition decompose_cgal(const Body& body);
 
 }  // namespace hedra

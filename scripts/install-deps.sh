@@ -9,6 +9,7 @@ packages=(
   libopenmesh-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev
+  libtet1.5-dev
   "$@"
 )
 

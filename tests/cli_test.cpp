@@ -113,6 +113,33 @@ TEST(Cli, BadInputExitsWithThreeAndOneLine) {
   }
 }
 
+TEST(Cli, DecomposeJsonAndPieceFiles) {
+  const fs::path dir = temp_dir("decompose");
+  {
+    std::ofstream f(dir / "l.obj");
+    f << "v 0 0 0\nv 4 0 0\nv 4 1 0\nv 1 1 0\nv 1 3 0\nv 0 3 0\n"
+         "v 0 0 2\nv 4 0 2\nv 4 1 2\nv 1 1 2\nv 1 3 2\nv 0 3 2\n"
+         "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n"
+         "f 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\n";
+  }
+  fs::remove_all(dir / "pieces");
+  Result r = run("decompose --json " + (dir / "l.obj").string() + " -o " + (dir / "pieces").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["method"], "planes");
+  EXPECT_EQ(j["pieces"], 2);
+  EXPECT_EQ(j["input_volume"], 12.0);
+  EXPECT_EQ(j["pieces_volume"], 12.0);
+  EXPECT_EQ(j["all_convex"], true);
+  EXPECT_TRUE(j["ms"].is_number());
+  EXPECT_TRUE(fs::exists(dir / "pieces" / "piece_000.off"));
+  EXPECT_TRUE(fs::exists(dir / "pieces" / "piece_001.off"));
+  r = run("info --json " + (dir / "pieces" / "piece_001.off").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["bodies"][0]["convex"], true);
+  EXPECT_EQ(run("decompose --method nonsense " + (dir / "l.obj").string()).code, 3);
+}
+
 TEST(Cli, UsageErrorsExitWithTwo) {
   EXPECT_EQ(run("").code, 2);
   EXPECT_EQ(run("info").code, 2);

@@ -128,3 +128,41 @@ TEST(Split, ComponentsOnOneSide) {
 
 }  // namespace
 }  // namespace hedra
+
+namespace hedra {
+namespace {
+
+TEST(DecomposeFloat, AgreesOnCleanInputAndFailsLoudly) {
+  const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
+  Decomposition d = decompose_float(l, 1e-12);
+  EXPECT_EQ(d.pieces.size(), 2u);
+  EXPECT_NEAR(total_volume(d.pieces), 12, 1e-12);
+  // On every suite shape it either succeeds with convex pieces of the right total volume or
+  // throws DecompositionFailed — never returns garbage silently.
+  for (const suite::Shape& shape : suite::shapes(false)) {
+    const Body body = suite::rotated(shape.body);
+    try {
+      Decomposition f = decompose_float(body, 1e-9);
+      for (const Body& piece : f.pieces) EXPECT_TRUE(convexity(piece).convex) << shape.name;
+      EXPECT_NEAR(total_volume(f.pieces), body.volume(), 1e-9 * body.volume()) << shape.name;
+    } catch (const DecompositionFailed& e) {
+      SUCCEED() << shape.name << ": " << e.what();
+    }
+  }
+}
+
+TEST(DecomposeCgal, CoversTheBodyWithAtLeastAsManyPieces) {
+  for (const suite::Shape& shape : suite::shapes(false)) {
+    if (shape.name.rfind("plate", 0) == 0) continue;  // slow in CGAL; the benchmark covers it
+    Decomposition cgal = decompose_cgal(shape.body);
+    Decomposition ours = decompose(shape.body);
+    // CGAL's slivers (degenerate_pieces) have next to no volume.
+    EXPECT_NEAR(total_volume(cgal.pieces), shape.body.volume(), 1e-6 * shape.body.volume())
+        << shape.name;
+    for (const Body& piece : cgal.pieces) EXPECT_TRUE(convexity(piece).convex) << shape.name;
+    EXPECT_LE(ours.pieces.size(), cgal.pieces.size() + cgal.degenerate_pieces) << shape.name;
+  }
+}
+
+}  // namespace
+}  // namespace hedra
