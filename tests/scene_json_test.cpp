@@ -14,7 +14,7 @@
 namespace hedra {
 namespace {
 
-const std::string kExample = std::string(HEDRA_TEST_DATA) + "/../../examples/city-block.json";
+const std::string kExample = std::string(HEDRA_SOURCE_DIR) + "/examples/city-block.json";
 
 void expect_same_body(const Body& a, const Body& b, const std::string& name) {
   EXPECT_EQ(a.vertices(), b.vertices()) << name;
