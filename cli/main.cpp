@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "cli/clip.h"
 #include "cli/decompose.h"
 #include "cli/demo.h"
 #include "cli/info.h"
@@ -57,6 +58,9 @@ int main(int argc, char** argv) {
   decompose->add_flag("--json", dec.json, "print JSON");
   decompose->add_option("--threads", dec.threads, "worker threads (default: all)");
 
+  hedra::cli::ClipCommand clip_args;
+  CLI::App* clip = hedra::cli::add_clip_subcommand(app, clip_args);
+
   CLI::App* demo = app.add_subcommand("demo", "Build the embedded demo scene and report on it");
 
   try {
@@ -90,6 +94,8 @@ int main(int argc, char** argv) {
       }
       std::cout << "wrote " << convert_out << " (" << bodies.size() << " bod"
                 << (bodies.size() == 1 ? "y" : "ies") << ")\n";
+    } else if (*clip) {
+      hedra::cli::run_clip(clip_args, std::cout);
     } else if (*decompose) {
       hedra::cli::run_decompose(dec, std::cout);
     } else if (*demo) {

@@ -180,7 +180,7 @@ using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, EK>;
 using Fb0 = CGAL::Constrained_triangulation_face_base_2<EK>;
 using Fb = CGAL::Triangulation_face_base_with_info_2<int, EK, Fb0>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::Exact_predicates_tag>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
 // Triangles (counter-clockwise around the plane's normal) filling the region of the plane
 // bounded by the given segments (point ids), by parity of constrained edges crossed.
@@ -526,7 +526,17 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     out.verified = all_convex && total == input;
     out.exact_volume = CGAL::to_double(input / 6);
   }
-  for (const Piece& p : done) out.pieces.push_back(body_of(p));
+  for (size_t i = 0; i < done.size(); ++i) {
+    try {
+      out.pieces.push_back(body_of(done[i]));
+    } catch (const InvalidInput& e) {
+      // The exact piece is valid, but too thin for double coordinates.
+      throw InvalidInput("decompose: piece " + std::to_string(i) +
+                         " is thinner than double coordinates can represent (" + e.what() +
+                         "); the input has nearly coplanar faces: merge them on import "
+                         "(--coplanar-tol)");
+    }
+  }
   return out;
 }
 

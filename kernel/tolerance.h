@@ -25,4 +25,10 @@ constexpr double kMaxAbsCoordinate = 1e75;
 /// |z| <= kRotationConvexityZero * scale counts as zero.
 constexpr double kRotationConvexityZero = 1e-12;
 
+/// Default precision ε of midpoint subdivision clipping (algorithms.md §3), relative: the CLI
+/// uses ε = kMidpointEpsilon · scale (the clipper's Body::scale()). Bisection stops when the
+/// bracket around an end is at most ε long: about 30 bisections per end on data of unit size,
+/// far above the rounding of the midpoints themselves (~1e-16 · scale).
+constexpr double kMidpointEpsilon = 1e-9;
+
 }  // namespace hedra

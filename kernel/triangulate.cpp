@@ -60,7 +60,7 @@ using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
 using Fb0 = CGAL::Constrained_triangulation_face_base_2<K>;
 using Fb = CGAL::Triangulation_face_base_with_info_2<int, K, Fb0>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::Exact_predicates_tag>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<K, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
 // Nesting depth of each face: 0 outside, 1 inside the outer loop, 2 inside a hole, ...
 void mark_depths(Cdt& cdt) {

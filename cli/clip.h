@@ -1,0 +1,33 @@
+// `hedra clip`: clips the segments of a text file against a body (README, "The hedra command").
+#pragma once
+
+#include <ostream>
+#include <string>
+
+namespace CLI {
+class App;
+}
+
+namespace hedra::cli {
+
+struct ClipCommand {
+  std::string body_file;      // mesh file: one convex body, or the convex pieces of one clipper
+  std::string segments_file;  // one segment per line: x1 y1 z1 x2 y2 z2
+  std::string output_file;    // the parts, one per line: x1 y1 z1 x2 y2 z2 input-line
+  bool outside = false;       // keep the parts outside (erasing) instead of inside
+  std::string method = "cyrus-beck";  // or "midpoint"
+  double eps = 0;  // midpoint precision; 0: kMidpointEpsilon × the clipper's scale
+};
+
+/// Registers the `clip` subcommand and its options on `app`, to fill `command`.
+CLI::App* add_clip_subcommand(CLI::App& app, ClipCommand& command);
+
+/// Runs `hedra clip`: reads the clipper and the segments, clips every segment in input order
+/// and writes the parts (several per segment for a non-convex clipper, in order along it)
+/// atomically; prints a one-line summary to `out`. A file with one body needs it convex (a
+/// non-convex body needs the convex decomposition, not available yet); a file with several
+/// bodies takes each, convex, as a piece of one clipper.
+/// \throw InvalidInput naming the file and line ("segments.txt:7: …"), IoError.
+void run_clip(const ClipCommand& command, std::ostream& out);
+
+}  // namespace hedra::cli
