@@ -490,6 +490,9 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
           return;
         }
         Sides sides = split_piece(ctx, open[i], choose_cut(ctx, open[i], reflex));
+        // Exactly, a plane through a reflex edge always has the piece on both sides; with an
+        // epsilon it may not, and the piece would come back unchanged for ever.
+        if (!sides.cut) throw std::logic_error("the plane of a reflex edge does not cut its piece");
         for (Piece& p : sides.below) next[i].push_back(std::move(p));
         for (Piece& p : sides.above) next[i].push_back(std::move(p));
       });

@@ -148,7 +148,10 @@ T exact_plane_value(const ExactPlane& f, const Vec3& p) {
   if (f.by_points_) {
     const Vec3 &a = f.points_[0], &b = f.points_[1], &c = f.points_[2];
     const T bax = T(b.x()) - T(a.x()), bay = T(b.y()) - T(a.y()), baz = T(b.z()) - T(a.z());
-    const T cax = T(c.x()) - T(a.x()), cay = T(c.y()) - T(a.y()), caz = T(c.z()) - T(a.z());
+    // Through a direction: c is the direction itself, not a point.
+    const T cax = f.by_direction_ ? T(c.x()) : T(c.x()) - T(a.x());
+    const T cay = f.by_direction_ ? T(c.y()) : T(c.y()) - T(a.y());
+    const T caz = f.by_direction_ ? T(c.z()) : T(c.z()) - T(a.z());
     const T pax = T(p.x()) - T(a.x()), pay = T(p.y()) - T(a.y()), paz = T(p.z()) - T(a.z());
     const T det = bax * (cay * paz - caz * pay) - bay * (cax * paz - caz * pax) +
                   baz * (cax * pay - cay * pax);
@@ -164,8 +167,34 @@ ExactPlane ExactPlane::through(const Vec3& a, const Vec3& b, const Vec3& c) {
   if (!a.allFinite() || !b.allFinite() || !c.allFinite())
     throw InvalidInput("plane through a point with a coordinate that is not finite");
   if (collinear(a, b, c)) throw InvalidInput("plane through three collinear points");
+  return build(a, b, c, false);
+}
+
+ExactPlane ExactPlane::through_direction(const Vec3& a, const Vec3& b, const Vec3& d) {
+  if (!a.allFinite() || !b.allFinite() || !d.allFinite())
+    throw InvalidInput("plane through a point or direction that is not finite");
+  // Parallel to d: the exact cross product (b − a) × d must not vanish.
+  ExactPlane probe;
+  probe.by_points_ = true;
+  probe.by_direction_ = true;
+  probe.points_ = {a, b, d};
+  // Degenerate iff f vanishes identically (f(a) = 0): test it at a moved along each axis.
+  bool degenerate = true;
+  for (int i = 0; i < 3 && degenerate; ++i) {
+    Vec3 q = a;
+    q[i] += std::abs(a[i]) + 1;  // differs from a[i] whatever the rounding
+    degenerate = filtered_sign([&](auto zero) {
+                   return exact_plane_value<decltype(zero)>(probe, q);
+                 }) == Sign::Zero;
+  }
+  if (degenerate) throw InvalidInput("plane through two points parallel to their own direction");
+  return build(a, b, d, true);
+}
+
+ExactPlane ExactPlane::build(const Vec3& a, const Vec3& b, const Vec3& c, bool direction) {
   ExactPlane f;
   f.by_points_ = true;
+  f.by_direction_ = direction;
   f.points_ = {a, b, c};
   // n = (c − a) × (b − a) and k = −n·a, so that n·p + k = −det[b − a, c − a, p − a] = f(p).
   // Enclosed by intervals; the double form takes the midpoints and the radii go to the bound.
@@ -174,8 +203,9 @@ ExactPlane ExactPlane::through(const Vec3& a, const Vec3& b, const Vec3& c) {
     CGAL::Protect_FPU_rounding<true> guard;
     const Interval bax = Interval(b.x()) - Interval(a.x()), bay = Interval(b.y()) - Interval(a.y()),
                    baz = Interval(b.z()) - Interval(a.z());
-    const Interval cax = Interval(c.x()) - Interval(a.x()), cay = Interval(c.y()) - Interval(a.y()),
-                   caz = Interval(c.z()) - Interval(a.z());
+    const Interval cax = direction ? Interval(c.x()) : Interval(c.x()) - Interval(a.x());
+    const Interval cay = direction ? Interval(c.y()) : Interval(c.y()) - Interval(a.y());
+    const Interval caz = direction ? Interval(c.z()) : Interval(c.z()) - Interval(a.z());
     const Interval n0 = cay * baz - caz * bay, n1 = caz * bax - cax * baz,
                    n2 = cax * bay - cay * bax;
     const Interval k =
@@ -238,6 +268,28 @@ Sign side_of_plane(const ExactPlane& f, const Vec3& p) {
   if (v > bound) return Sign::Positive;
   if (v < -bound) return Sign::Negative;
   return filtered_sign([&](auto zero) { return exact_plane_value<decltype(zero)>(f, p); });
+}
+
+Sign direction_sign(const ExactPlane& f, const Vec3& d) {
+  return filtered_sign([&](auto zero) {
+    using T = decltype(zero);
+    T value(0);
+    if (f.by_points()) {
+      const auto& pts = f.points();
+      const Vec3 &a = pts[0], &b = pts[1], &c = pts[2];
+      const T bax = T(b.x()) - T(a.x()), bay = T(b.y()) - T(a.y()), baz = T(b.z()) - T(a.z());
+      const T cax = f.by_direction() ? T(c.x()) : T(c.x()) - T(a.x());
+      const T cay = f.by_direction() ? T(c.y()) : T(c.y()) - T(a.y());
+      const T caz = f.by_direction() ? T(c.z()) : T(c.z()) - T(a.z());
+      const T det = bax * (cay * T(d.z()) - caz * T(d.y())) - bay * (cax * T(d.z()) - caz * T(d.x())) +
+                    baz * (cax * T(d.y()) - cay * T(d.x()));
+      value = T(0) - det;
+    } else {
+      const Vec4& k = f.coefficients().coefficients;
+      value = T(k[0]) * T(d.x()) + T(k[1]) * T(d.y()) + T(k[2]) * T(d.z());
+    }
+    return f.negated() ? T(0) - value : value;
+  });
 }
 
 Sign compare_crossings(const ExactPlane& f, const ExactPlane& g, const Vec3& p, const Vec3& q) {

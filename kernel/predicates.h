@@ -67,6 +67,10 @@ class ExactPlane {
   ExactPlane() = default;
   /// \throw InvalidInput if a coordinate is not finite or the points are collinear.
   static ExactPlane through(const Vec3& a, const Vec3& b, const Vec3& c);
+  /// The plane through a and b parallel to direction d (a viewpoint at infinity): exact, the
+  /// direction is never added to a point. f(p) = −det[b − a, d, p − a].
+  /// \throw InvalidInput if a value is not finite or d is parallel to b − a (or zero).
+  static ExactPlane through_direction(const Vec3& a, const Vec3& b, const Vec3& d);
   /// \throw InvalidInput if a coefficient is not finite or the normal is zero.
   static ExactPlane from_coefficients(const Plane& plane);
 
@@ -88,13 +92,18 @@ class ExactPlane {
   double error_offset() const { return offset_; }
   bool by_points() const { return by_points_; }
   bool negated() const { return negated_; }  // f is −(the defining form): see flipped()
-  const std::array<Vec3, 3>& points() const { return points_; }  // when by_points()
+  bool by_direction() const { return by_direction_; }
+  /// When by_points(): the three points, or a, b and the direction when by_direction().
+  const std::array<Vec3, 3>& points() const { return points_; }
   const Plane& coefficients() const { return plane_; }           // when !by_points()
   /// The same plane with the other side inner (−f, exactly).
   ExactPlane flipped() const;
 
  private:
+  static ExactPlane build(const Vec3& a, const Vec3& b, const Vec3& c, bool direction);
+
   bool by_points_ = false;
+  bool by_direction_ = false;  // points_[2] is a direction (through_direction)
   bool negated_ = false;  // f is the negation of the defining form (flipped())
   std::array<Vec3, 3> points_{};
   Plane plane_;
@@ -108,6 +117,10 @@ class ExactPlane {
 /// Exact sign of f(p): Positive = inner side. A static filter on value() and error_bound()
 /// decides almost always; interval arithmetic, then CGAL::Mpzf, decide the rest. Cost O(1).
 Sign side_of_plane(const ExactPlane& f, const Vec3& p);
+
+/// Exact sign of n·d, n the exact normal of f (pointing to the inner side): Positive when
+/// moving along d goes into the inner side. Cost O(1).
+Sign direction_sign(const ExactPlane& f, const Vec3& d);
 
 /// Order of the points where the line through p and q crosses the planes f and g: the sign of
 /// t_f − t_g with t_f = f(p) / (f(p) − f(q)), the parameter on p + (q − p)·t (Cyrus–Beck's
