@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <vector>
 
+#include "cli/info.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/text_reader.h"
 #include "kernel/batch_clip.h"
 #include "kernel/convexity.h"
+#include "kernel/decompose.h"
 #include "kernel/cyrus_beck.h"
 #include "kernel/error.h"
 #include "kernel/midpoint_clip.h"
@@ -58,26 +60,24 @@ std::string face_list(const std::vector<int>& faces) {
 
 // One convex body, or several convex bodies taken as the pieces of one clipper.
 std::vector<ConvexClipper> read_clipper(const std::string& path, double& scale) {
-  const std::vector<Body> bodies = io::read_bodies(path);
+  // Every body of the file (scene or mesh) is part of the clipper; a non-convex one takes
+  // part through its exact convex decomposition, whose pieces share faces exactly, so the
+  // per-piece intervals join without gaps.
+  const std::vector<NamedBody> bodies = load_bodies(path);
   std::vector<ConvexClipper> pieces;
   scale = 0;
-  for (size_t k = 0; k < bodies.size(); ++k) {
-    const ConvexityReport report = convexity(bodies[k]);
-    if (!report.convex) {
-      if (bodies.size() == 1)
-        throw InvalidInput(path +
-                           ": the body is not convex (vertices outside the planes of faces " +
-                           face_list(report.nonconvex_faces) +
-                           "); clipping against a non-convex body needs its convex decomposition, "
-                           "which is not available yet: give its convex pieces as separate bodies "
-                           "in one file");
-      throw InvalidInput(path + ": body " + std::to_string(k) + " of " +
-                         std::to_string(bodies.size()) +
-                         " is not convex; with several bodies, each must be a convex piece of "
-                         "the clipper");
+  for (const NamedBody& named : bodies) {
+    const Body& body = named.body;
+    scale = std::max(scale, body.scale());
+    if (convexity(body).convex) {
+      pieces.emplace_back(body);
+      continue;
     }
-    pieces.emplace_back(bodies[k]);
-    scale = std::max(scale, bodies[k].scale());
+    try {
+      for (const Body& piece : decompose(body).pieces) pieces.emplace_back(piece);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(path + ": body '" + named.name + "': " + e.what());
+    }
   }
   return pieces;
 }

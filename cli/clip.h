@@ -24,9 +24,8 @@ CLI::App* add_clip_subcommand(CLI::App& app, ClipCommand& command);
 
 /// Runs `hedra clip`: reads the clipper and the segments, clips every segment in input order
 /// and writes the parts (several per segment for a non-convex clipper, in order along it)
-/// atomically; prints a one-line summary to `out`. A file with one body needs it convex (a
-/// non-convex body needs the convex decomposition, not available yet); a file with several
-/// bodies takes each, convex, as a piece of one clipper.
+/// atomically; prints a one-line summary to `out`. Every body of the file (mesh or scene) is
+/// part of one clipper; a non-convex body takes part through its exact convex decomposition.
 /// \throw InvalidInput naming the file and line ("segments.txt:7: …"), IoError.
 void run_clip(const ClipCommand& command, std::ostream& out);
 

@@ -166,22 +166,41 @@ TEST(ClipCli, SeveralConvexBodiesAreThePiecesOfOneClipper) {
   EXPECT_EQ(rows[2][6], 2);
 }
 
-TEST(ClipCli, NonConvexBodyNeedsItsPieces) {
+TEST(ClipCli, NonConvexBodyThroughItsDecomposition) {
+  // The L prism {0 ≤ x ≤ 4, 0 ≤ y ≤ 1} ∪ {0 ≤ x ≤ 1, 0 ≤ y ≤ 3}, 0 ≤ z ≤ 2, decomposed into
+  // two pieces by the clipper: parts crossing the shared cut face come out whole.
   const fs::path dir = temp_dir("nonconvex");
   write(dir / "l.obj",
         "v 0 0 0\nv 4 0 0\nv 4 1 0\nv 1 1 0\nv 1 3 0\nv 0 3 0\n"
         "v 0 0 2\nv 4 0 2\nv 4 1 2\nv 1 1 2\nv 1 3 2\nv 0 3 2\n"
         "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n"
         "f 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\n");
-  write(dir / "segs.txt", "0 0 0 1 1 1\n");
+  write(dir / "segs.txt",
+        "-1 0.5 1 5 0.5 1\n"      // along x through both pieces: x in [0, 4]
+        "0.5 -1 1 0.5 4 1\n"      // along y through both pieces: y in [0, 3]
+        "2 2 1 2 2 1.5\n"         // in the notch: nothing
+        "3 0.5 1 0.5 3 1\n");     // across the notch: t in [0, 0.2] and [0.8, 1]
   const fs::path out = dir / "out.txt";
   Result r = run("clip --body " + (dir / "l.obj").string() + " --segments " +
                  (dir / "segs.txt").string() + " -o " + out.string());
-  EXPECT_EQ(r.code, 3);
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  EXPECT_NE(r.err.find("l.obj: the body is not convex"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("decomposition, which is not available yet"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(out));
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::vector<std::vector<double>> rows = read_rows(out);
+  const std::vector<std::vector<double>> want = {{0, 0.5, 1, 4, 0.5, 1, 1},
+                                                 {0.5, 0, 1, 0.5, 3, 1, 2},
+                                                 {3, 0.5, 1, 2.5, 1, 1, 4},
+                                                 {1, 2.5, 1, 0.5, 3, 1, 4}};
+  ASSERT_EQ(rows.size(), want.size());
+  for (size_t i = 0; i < want.size(); ++i)
+    for (size_t j = 0; j < 7; ++j) EXPECT_NEAR(rows[i][j], want[i][j], 1e-12) << i << "," << j;
+  r = run("clip --outside --body " + (dir / "l.obj").string() + " --segments " +
+          (dir / "segs.txt").string() + " -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  rows = read_rows(out);
+  // Line 1: two outer ends; line 2: two; line 3: whole; line 4: the notch part.
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[5][6], 4);
+  EXPECT_NEAR(rows[5][0], 2.5, 1e-12);
+  EXPECT_NEAR(rows[5][4], 2.5, 1e-12);
 }
 
 TEST(ClipCli, MalformedLinesNameTheLineAndExitWithThree) {
