@@ -23,9 +23,6 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
 #ifndef HEDRA_HAVE_TETGEN
   if (c.method == "tetgen") throw InvalidInput("this hedra was built without TetGen");
 #endif
-  if (c.merge)
-    throw InvalidInput("--merge is not available yet (the merge pass of adjacent pieces is an "
-                       "open part of the decomposition issue)");
   std::vector<NamedBody> bodies = load_bodies(c.file);
   // A scene: every non-convex body. A mesh file: every body.
   const bool scene = c.file.size() > 5 && c.file.substr(c.file.size() - 5) == ".json";
@@ -34,6 +31,7 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
     if (scene && convexity(nb.body).convex) continue;
     DecomposeOptions options;
     options.threads = c.threads;
+    options.merge = c.merge;
     const auto start = std::chrono::steady_clock::now();
     Decomposition d;
     if (c.method == "planes") d = decompose(nb.body, options);
@@ -42,6 +40,7 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
 #ifdef HEDRA_HAVE_TETGEN
     if (c.method == "tetgen") d = tetgen::decompose(nb.body);
 #endif
+    if (c.merge && (c.method == "tetgen" || c.method == "cgal")) d.pieces = merge_convex(d.pieces, &d.merges);
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     double volume = 0;
@@ -63,6 +62,7 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
     j["name"] = nb.name;
     j["method"] = c.method;
     j["pieces"] = d.pieces.size();
+    if (c.merge) j["merged"] = d.merges;
     j["input_volume"] = nb.body.volume();
     j["pieces_volume"] = volume;
     j["all_convex"] = all_convex;

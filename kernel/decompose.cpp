@@ -4,6 +4,8 @@
 #include "kernel/decompose.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Triangulation_face_base_with_info_2.h>
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
@@ -17,6 +19,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "kernel/convexity.h"
 #include "kernel/error.h"
 #include "kernel/merge_coplanar.h"
 #include "kernel/split.h"
@@ -94,17 +97,22 @@ void add_on(Point& pt, int id) {
 // Groups the body's faces into canonical planes (coincident within the rounding guard) and
 // builds the exact piece of the whole body.
 Piece piece_of(const Body& body, Context& ctx) {
-  ctx.guard = kRoundingPlanarity * body.scale();
+  ctx.guard = std::max(ctx.guard, kRoundingPlanarity * body.scale());
   const auto& v = body.vertices();
-  std::vector<int> group(body.face_count(), -1);
+  std::vector<int> group(body.face_count(), -1), sign(body.face_count(), 1);
   for (int f = 0; f < body.face_count(); ++f) {
     const Plane outward = body.plane(f).flipped();
     for (size_t g = 0; g < ctx.approx.size() && group[f] < 0; ++g) {
-      if (ctx.approx[g].normal().dot(outward.normal()) <= 0) continue;
+      // A plane met before, from either side (pieces of merge_convex meet from both).
+      const double dot = ctx.approx[g].normal().dot(outward.normal());
+      if (std::abs(dot) < 0.5) continue;
       bool same = true;
       for (const auto& loop : body.faces()[f].loops)
         for (int w : loop) same = same && std::abs(ctx.approx[g].value(v[w])) <= ctx.guard;
-      if (same) group[f] = static_cast<int>(g);
+      if (same) {
+        group[f] = static_cast<int>(g);
+        sign[f] = dot > 0 ? 1 : -1;
+      }
     }
     if (group[f] < 0) {
       group[f] = static_cast<int>(ctx.planes.size());
@@ -125,7 +133,7 @@ Piece piece_of(const Body& body, Context& ctx) {
   for (int f = 0; f < body.face_count(); ++f)
     for (const auto& loop : body.faces()[f].loops)
       for (int w : loop) add_on(piece.pts[w], group[f]);
-  for (const Triangle& t : body.triangles()) piece.tris.push_back({t.v, group[t.face], 1});
+  for (const Triangle& t : body.triangles()) piece.tris.push_back({t.v, group[t.face], sign[t.face]});
   return piece;
 }
 
@@ -438,6 +446,218 @@ P3 smallest_point(const Piece& piece) {
   return best;
 }
 
+// ---- Merge pass ----------------------------------------------------------------------------
+
+// The (plane, sign) pairs of a piece's faces, sorted.
+std::vector<std::pair<int, int>> face_planes(const Piece& piece) {
+  std::vector<std::pair<int, int>> out;
+  for (const Tri& t : piece.tris) out.emplace_back(t.plane, t.sign);
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Every point of `other` in the closed inner half-space of every face plane of `piece` but
+// `shared`.
+bool inside_planes(const Context& ctx, const std::vector<std::pair<int, int>>& planes, int shared,
+                   const Piece& other) {
+  for (const auto& [plane, sign] : planes) {
+    if (plane == shared) continue;
+    for (const Point& q : other.pts)
+      if (sign * side(ctx, q, plane) > 0) return false;
+  }
+  return true;
+}
+
+// Convex pieces A and B with faces on one plane c from opposite sides have a convex union iff
+// every point of B lies inside A's other face planes and every point of A inside B's: then the
+// intersection H of those half-spaces meets c's side of A in A and the other side in B, so
+// A ∪ B = H is convex; conversely a convex union is bounded by the planes of A's faces off c.
+// Decided by exact sides. Returns the shared plane, or −1.
+int mergeable(const Context& ctx, const Piece& a, const std::vector<std::pair<int, int>>& pa,
+              const Piece& b, const std::vector<std::pair<int, int>>& pb) {
+  for (const auto& [plane, sign] : pa) {
+    if (!std::binary_search(pb.begin(), pb.end(), std::make_pair(plane, -sign))) continue;
+    if (inside_planes(ctx, pa, plane, b) && inside_planes(ctx, pb, plane, a)) return plane;
+  }
+  return -1;
+}
+
+// The convex hull of two pieces' points (their convex union), with each hull triangle
+// assigned the canonical plane it lies on.
+Piece merged(const Context& ctx, const Piece& a, const Piece& b,
+             const std::vector<std::pair<int, int>>& planes) {
+  std::vector<Point> pts = a.pts;
+  for (const Point& q : b.pts) {
+    auto same = std::find_if(pts.begin(), pts.end(), [&](const Point& p) { return p.p == q.p; });
+    if (same == pts.end()) {
+      pts.push_back(q);
+    } else {
+      for (int id : q.on) add_on(*same, id);
+      if (same->origin < 0 && q.origin >= 0) same->origin = q.origin, same->input = q.input;
+    }
+  }
+  std::vector<P3> coords;
+  for (const Point& p : pts) coords.push_back(p.p);
+  CGAL::Surface_mesh<P3> hull;
+  CGAL::convex_hull_3(coords.begin(), coords.end(), hull);
+  std::map<P3, int> index;
+  for (size_t i = 0; i < pts.size(); ++i) index.emplace(pts[i].p, static_cast<int>(i));
+  // Each hull triangle lies on one of the two pieces' face planes. Several can contain all
+  // three corners (a thin triangle along an edge of a rotated body, whose corners lie on the
+  // planes within rounding): then the plane best aligned with the triangle, and for a
+  // triangle too thin to have a direction, the plane of a neighbour that contains it.
+  std::vector<std::array<int, 3>> tris;
+  for (auto f : hull.faces()) {
+    std::array<int, 3> v{};
+    int k = 0;
+    for (auto h : CGAL::halfedges_around_face(hull.halfedge(f), hull))
+      v[k++] = index.at(hull.point(hull.target(h)));
+    tris.push_back(v);
+  }
+  // The hull may keep a point in the middle of one of its edges, as the corner of a flat
+  // triangle: split the neighbour across that edge at the point and drop the flat triangle.
+  for (int guard = 0; guard < 1000; ++guard) {
+    size_t flat = tris.size();
+    int middle = -1;
+    for (size_t t = 0; t < tris.size() && flat == tris.size(); ++t) {
+      const auto& v = tris[t];
+      if (!CGAL::collinear(pts[v[0]].p, pts[v[1]].p, pts[v[2]].p)) continue;
+      flat = t;
+      for (int i = 0; i < 3; ++i)
+        if (CGAL::collinear_are_strictly_ordered_along_line(pts[v[(i + 2) % 3]].p, pts[v[i]].p,
+                                                            pts[v[(i + 1) % 3]].p))
+          middle = i;
+    }
+    if (flat == tris.size()) break;
+    if (middle < 0) throw std::logic_error("decompose: a merged hull has a repeated point");
+    const std::array<int, 3> t = tris[flat];
+    const int m = t[middle], p = t[(middle + 1) % 3], q = t[(middle + 2) % 3];
+    size_t u = tris.size();
+    int apex = -1;
+    for (size_t k = 0; k < tris.size() && u == tris.size(); ++k)
+      for (int i = 0; i < 3; ++i)
+        if (tris[k][i] == q && tris[k][(i + 1) % 3] == p) u = k, apex = tris[k][(i + 2) % 3];
+    if (u == tris.size()) throw std::logic_error("decompose: a merged hull is not closed");
+    tris[u] = {q, m, apex};
+    tris.push_back({m, p, apex});
+    tris.erase(tris.begin() + static_cast<std::ptrdiff_t>(flat));
+  }
+  const size_t n = tris.size();
+  std::vector<std::vector<int>> candidates(n);
+  std::vector<int> plane(n, -1);
+  std::vector<Vec3> normal(n);
+  double scale = 0;
+  for (const Point& p : pts)
+    scale = std::max(scale, std::abs(CGAL::to_double(p.p.x())) + std::abs(CGAL::to_double(p.p.y())) +
+                                std::abs(CGAL::to_double(p.p.z())));
+  auto d = [](const P3& p) {
+    return Vec3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+  };
+  for (size_t t = 0; t < n; ++t) {
+    const auto& v = tris[t];
+    for (const auto& [id, sgn] : planes)
+      if (!side(ctx, pts[v[0]], id) && !side(ctx, pts[v[1]], id) && !side(ctx, pts[v[2]], id))
+        candidates[t].push_back(id);
+    std::sort(candidates[t].begin(), candidates[t].end());
+    candidates[t].erase(std::unique(candidates[t].begin(), candidates[t].end()), candidates[t].end());
+    if (candidates[t].empty()) throw std::logic_error("decompose: a merged face lies on no face plane");
+    normal[t] = (d(pts[v[1]].p) - d(pts[v[0]].p)).cross(d(pts[v[2]].p) - d(pts[v[0]].p));
+    const bool thin = normal[t].norm() <= 1e-6 * scale * scale;
+    if (candidates[t].size() == 1) {
+      plane[t] = candidates[t][0];
+    } else if (!thin) {
+      double best = -1;
+      for (int id : candidates[t]) {
+        const double a = std::abs(normal[t].normalized().dot(ctx.approx[id].normal()));
+        if (a > best) best = a, plane[t] = id;
+      }
+    }
+  }
+  std::map<std::uint64_t, size_t> edge_owner;
+  for (size_t t = 0; t < n; ++t)
+    for (int i = 0; i < 3; ++i) edge_owner[key(tris[t][i], tris[t][(i + 1) % 3])] = t;
+  for (bool progress = true; progress;) {
+    progress = false;
+    for (size_t t = 0; t < n; ++t) {
+      if (plane[t] >= 0) continue;
+      for (int i = 0; i < 3 && plane[t] < 0; ++i) {
+        const size_t u = edge_owner.at(key(tris[t][(i + 1) % 3], tris[t][i]));
+        if (plane[u] >= 0 && std::binary_search(candidates[t].begin(), candidates[t].end(), plane[u]))
+          plane[t] = plane[u], progress = true;
+      }
+    }
+  }
+  Piece out;
+  std::vector<int> remap(pts.size(), -1);
+  for (size_t t = 0; t < n; ++t) {
+    std::array<int, 3> v = tris[t];
+    const int id = plane[t] >= 0 ? plane[t] : candidates[t][0];
+    const EK::Vector_3 en = CGAL::cross_product(pts[v[1]].p - pts[v[0]].p, pts[v[2]].p - pts[v[0]].p);
+    const int sign = CGAL::is_positive(en * ctx.planes[id].orthogonal_vector()) ? 1 : -1;
+    for (int& w : v) {
+      if (remap[w] < 0) {
+        remap[w] = static_cast<int>(out.pts.size());
+        out.pts.push_back(pts[w]);
+      }
+      w = remap[w];
+    }
+    out.tris.push_back({v, id, sign});
+  }
+  return out;
+}
+
+// Greedy merge of adjacent pieces with a convex union, in canonical order, until none is left:
+// deterministic.
+std::vector<Piece> merge_pieces(const Context& ctx, std::vector<Piece> pieces, int& merges) {
+  std::vector<std::vector<std::pair<int, int>>> planes;
+  for (const Piece& p : pieces) planes.push_back(face_planes(p));
+  std::vector<char> alive(pieces.size(), 1);
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    // Pieces by face plane and sign: candidates share a plane from opposite sides.
+    std::map<std::pair<int, int>, std::vector<int>> by_plane;
+    for (size_t i = 0; i < pieces.size(); ++i)
+      if (alive[i])
+        for (const auto& ps : planes[i]) by_plane[ps].push_back(static_cast<int>(i));
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      if (!alive[i]) continue;
+      std::vector<int> candidates;
+      for (const auto& [plane, sign] : planes[i]) {
+        auto it = by_plane.find({plane, -sign});
+        if (it == by_plane.end()) continue;
+        for (int j : it->second)
+          if (j > static_cast<int>(i) && alive[j]) candidates.push_back(j);
+      }
+      std::sort(candidates.begin(), candidates.end());
+      candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      for (int j : candidates) {
+        if (!alive[j] || mergeable(ctx, pieces[i], planes[i], pieces[j], planes[j]) < 0) continue;
+        std::vector<std::pair<int, int>> both = planes[i];
+        both.insert(both.end(), planes[j].begin(), planes[j].end());
+        Piece joined = merged(ctx, pieces[i], pieces[j], both);
+        // Faces that are one plane only within rounding (a rotated input) can leave the
+        // union with faces double coordinates cannot represent: then the pair stays apart.
+        try {
+          body_of(joined);
+        } catch (const InvalidInput&) {
+          continue;
+        }
+        pieces[i] = std::move(joined);
+        planes[i] = face_planes(pieces[i]);
+        alive[j] = 0;
+        ++merges;
+        changed = true;
+      }
+    }
+  }
+  std::vector<Piece> out;
+  for (size_t i = 0; i < pieces.size(); ++i)
+    if (alive[i]) out.push_back(std::move(pieces[i]));
+  return out;
+}
+
 }  // namespace
 
 SplitResult split(const Body& body, const Plane& plane) {
@@ -515,9 +735,16 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
         !options.progress(static_cast<int>(done.size()), static_cast<int>(open.size())))
       throw DecompositionCancelled();
   }
-  std::sort(done.begin(), done.end(), [](const Piece& a, const Piece& b) {
-    return smallest_point(a) < smallest_point(b);
-  });
+  auto canonical = [&] {
+    std::sort(done.begin(), done.end(), [](const Piece& a, const Piece& b) {
+      return smallest_point(a) < smallest_point(b);
+    });
+  };
+  canonical();
+  if (options.merge) {
+    done = merge_pieces(ctx, std::move(done), out.merges);
+    canonical();
+  }
   if (options.verify) {
     EK::FT total = 0;
     bool all_convex = true;
@@ -548,6 +775,28 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
 Decomposition decompose(const Body& body, const DecomposeOptions& options) {
   Context ctx;
   return run(body, options, ctx);
+}
+
+std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges) {
+  // The pieces share one set of canonical planes (faces of different pieces on one plane
+  // within rounding are one plane), so "on the shared plane" is decided consistently.
+  Context ctx;
+  std::vector<Piece> exact;
+  std::vector<Body> out;
+  for (const Body& body : pieces) {
+    if (convexity(body).convex)
+      exact.push_back(piece_of(body, ctx));
+    else
+      out.push_back(body);  // not convex after rounding (CGAL's slivers): left as it is
+  }
+  int count = 0;
+  exact = merge_pieces(ctx, std::move(exact), count);
+  if (merges) *merges = count;
+  std::sort(exact.begin(), exact.end(), [](const Piece& a, const Piece& b) {
+    return smallest_point(a) < smallest_point(b);
+  });
+  for (const Piece& p : exact) out.push_back(body_of(p));
+  return out;
 }
 
 Decomposition decompose_float(const Body& body, double epsilon, const DecomposeOptions& options) {

@@ -21,11 +21,15 @@ struct DecomposeOptions {
   /// Verify the result in exact arithmetic: every piece convex and the pieces' exact volumes
   /// summing to the input's exact volume (sets Decomposition::verified).
   bool verify = false;
+  /// After cutting, join adjacent pieces whose union is convex (decided exactly), greedily in
+  /// canonical order. Fewer pieces; each merged piece is still convex and the cover exact.
+  bool merge = false;
 };
 
 struct Decomposition {
   std::vector<Body> pieces;  // convex, interior-disjoint, covering the input; canonical order
   int cuts = 0;              // plane cuts made
+  int merges = 0;            // pieces joined by the merge pass (DecomposeOptions::merge)
   bool verified = false;     // exact checks passed (only with DecomposeOptions::verify)
   double exact_volume = 0;   // input volume from the exact computation (with verify)
   /// Pieces that could not be represented in double (decompose_cgal only: CGAL's exact pieces
@@ -37,6 +41,15 @@ class DecompositionCancelled : public std::runtime_error {
  public:
   DecompositionCancelled() : std::runtime_error("decomposition cancelled") {}
 };
+
+/// Joins adjacent convex bodies whose union is convex, greedily, until no pair is left: the
+/// merge pass of DecomposeOptions::merge, for pieces from any method (TetGen's tetrahedra,
+/// CGAL's pieces). Two pieces with faces on one plane from opposite sides join iff each one's
+/// vertices lie inside the other's remaining face planes (exact sides; faces of different
+/// pieces on one plane within rounding count as one plane). Pieces that are not exactly
+/// convex (rounded pieces of another method) come first, unchanged; then the merged ones in
+/// canonical order. Cost O(P·F·V) per pass.
+std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges = nullptr);
 
 /// The floating-point variant failed (a crack, a broken piece, a loop that found no cut).
 class DecompositionFailed : public std::runtime_error {

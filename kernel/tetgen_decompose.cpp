@@ -1,5 +1,8 @@
 #include "kernel/tetgen_decompose.h"
 
+#include <cmath>
+#include <string>
+
 #define TETLIBRARY
 #include <tetgen.h>
 
@@ -48,6 +51,13 @@ Decomposition decompose(const Body& body) {
     if (!positive) std::swap(v[2], v[3]);
     result.pieces.emplace_back(v, std::vector<Face>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}});
   }
+  // TetGen can give up quietly (no tetrahedra, e.g. a very thin rotated body): say so.
+  double volume = 0;
+  for (const Body& piece : result.pieces) volume += piece.volume();
+  if (result.pieces.empty() || std::abs(volume - body.volume()) > 1e-9 * body.volume())
+    throw InvalidInput("TetGen's " + std::to_string(result.pieces.size()) +
+                       " tetrahedra do not fill the body (volume " + std::to_string(volume) +
+                       " of " + std::to_string(body.volume()) + ")");
   return result;
 }
 

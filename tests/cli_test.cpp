@@ -138,6 +138,16 @@ TEST(Cli, DecomposeJsonAndPieceFiles) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(nlohmann::json::parse(r.out)["bodies"][0]["convex"], true);
   EXPECT_EQ(run("decompose --method nonsense " + (dir / "l.obj").string()).code, 3);
+#ifdef HEDRA_HAVE_TETGEN
+  // TetGen's 12 tetrahedra, merged: fewer convex pieces, same volume.
+  r = run("decompose --json --method tetgen --merge " + (dir / "l.obj").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_LE(j["pieces"].get<int>(), 6);
+  EXPECT_GE(j["merged"].get<int>(), 6);
+  EXPECT_EQ(j["all_convex"], true);
+  EXPECT_NEAR(j["pieces_volume"].get<double>(), 12.0, 1e-12);
+#endif
 }
 
 TEST(Cli, UsageErrorsExitWithTwo) {

@@ -72,6 +72,33 @@ TEST(Decompose, PieceCounts) {
   EXPECT_EQ(decompose(suite::staircase(10)).pieces.size(), 10u);
 }
 
+TEST(Decompose, MergePassKeepsTheCoverExactAndNeverAddsPieces) {
+  for (const suite::Shape& shape : suite::shapes(false)) {
+    DecomposeOptions plain, merge;
+    plain.verify = merge.verify = true;
+    merge.merge = true;
+    const Decomposition a = decompose(shape.body, plain), b = decompose(shape.body, merge);
+    EXPECT_TRUE(b.verified) << shape.name;
+    EXPECT_EQ(b.pieces.size() + b.merges, a.pieces.size()) << shape.name;
+  }
+  // Pieces that over-split a convex union are joined: the two halves of a box cut through
+  // its middle, and the four quarters of a box given as pieces.
+  int merges = 0;
+  const std::vector<Body> quarters = {box({0, 0, 0}, {1, 1, 1}), box({1, 0, 0}, {2, 1, 1}),
+                                      box({0, 1, 0}, {1, 2, 1}), box({1, 1, 0}, {2, 2, 1})};
+  std::vector<Body> whole = merge_convex(quarters, &merges);
+  ASSERT_EQ(whole.size(), 1u);
+  EXPECT_EQ(merges, 3);
+  EXPECT_EQ(whole[0].face_count(), 6);
+  EXPECT_DOUBLE_EQ(whole[0].volume(), 4);
+  // An L of three unit boxes: two pieces at best (never all three).
+  std::vector<Body> l = merge_convex({box({0, 0, 0}, {1, 1, 1}), box({1, 0, 0}, {2, 1, 1}),
+                                      box({0, 1, 0}, {1, 2, 1})});
+  EXPECT_EQ(l.size(), 2u);
+  // Touching along an edge only: never joined.
+  EXPECT_EQ(merge_convex({box({0, 0, 0}, {1, 1, 1}), box({1, 1, 0}, {2, 2, 1})}).size(), 2u);
+}
+
 TEST(Decompose, ConvexInputComesBackUnchanged) {
   Body b = box({0, 0, 0}, {1, 2, 3}).rotated_z(17);
   Decomposition d = decompose(b);
