@@ -4,7 +4,9 @@ ASAN_BUILD ?= build-asan
 JOBS       ?= 2
 CMAKE_ARGS ?=
 
-.PHONY: all deps build demo test test-asan clean
+BENCH_BUILD ?= build-bench
+
+.PHONY: all deps build demo test test-asan bench-build bench bench-quick clean
 
 all: build
 
@@ -27,5 +29,17 @@ test-asan: deps
 	cmake --build $(ASAN_BUILD) -j$(JOBS)
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j$(JOBS)
 
+# Benchmarks side by side with their peers; rewrites docs/benchmarks.md and the charts.
+bench-build:
+	bash scripts/install-deps.sh python3-matplotlib python3-numpy
+	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DHEDRA_BUILD_BENCH=ON -DHEDRA_BUILD_TESTS=OFF $(CMAKE_ARGS) > /dev/null
+	cmake --build $(BENCH_BUILD) -j$(JOBS)
+
+bench: bench-build
+	bash scripts/run-bench.sh $(BENCH_BUILD)
+
+bench-quick: bench-build
+	HEDRA_BENCH_QUICK=1 bash scripts/run-bench.sh $(BENCH_BUILD)
+
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD)
+	rm -rf $(BUILD) $(ASAN_BUILD) $(BENCH_BUILD)
