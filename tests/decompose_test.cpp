@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "decomposition_suite.h"
@@ -97,6 +98,51 @@ TEST(Decompose, MergePassKeepsTheCoverExactAndNeverAddsPieces) {
   EXPECT_EQ(l.size(), 2u);
   // Touching along an edge only: never joined.
   EXPECT_EQ(merge_convex({box({0, 0, 0}, {1, 1, 1}), box({1, 1, 0}, {2, 2, 1})}).size(), 2u);
+}
+
+// Seeded random property test: random star-shaped prisms and random unions of boxes, each
+// also under a random rotation about a random axis: exact verification, covering, and the
+// same piece count after the rotation.
+TEST(Decompose, RandomPrismsAndUnionsOfBoxesUnderRandomRotations) {
+  std::mt19937 random(2026);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<std::pair<std::string, Body>> bodies;
+  for (int k = 0; k < 6; ++k) {
+    const int n = 5 + static_cast<int>(u(random) * 8);
+    std::vector<Vec2> polygon;
+    for (int i = 0; i < n; ++i) {
+      const double angle = 2 * M_PI * (i + 0.8 * u(random)) / n, r = 0.6 + 1.4 * u(random);
+      polygon.emplace_back(r * std::cos(angle), r * std::sin(angle));
+    }
+    bodies.emplace_back("prism " + std::to_string(k), prism(polygon, 0, 0.3 + u(random)));
+  }
+  for (int k = 0; k < 4; ++k) {
+    auto random_box = [&] {
+      const Vec3 lo(u(random) * 2, u(random) * 2, u(random) * 2);
+      return box(lo, lo + Vec3(0.5 + u(random), 0.5 + u(random), 0.5 + u(random)));
+    };
+    Body b = random_box();
+    for (int j = 0; j < 2; ++j) {
+      Body c = random_box();
+      // Overlapping boxes only: a union of disjoint boxes is several bodies.
+      if (b.bbox().intersects(c.bbox())) b = unite(b, c);
+    }
+    bodies.emplace_back("union " + std::to_string(k), b);
+  }
+  for (const auto& [name, body] : bodies) {
+    const Transform rotation = Transform::rotation(
+        Vec3(u(random) - 0.5, u(random) - 0.5, u(random) - 0.5), 360 * u(random), body.centroid());
+    DecomposeOptions options;
+    options.verify = true;
+    const Decomposition plain = decompose(body, options);
+    const Body turned = body.transformed(rotation);
+    const Decomposition rotated = decompose(turned, options);
+    EXPECT_TRUE(plain.verified) << name;
+    EXPECT_TRUE(rotated.verified) << name;
+    EXPECT_EQ(plain.pieces.size(), rotated.pieces.size()) << name;
+    EXPECT_NEAR(total_volume(rotated.pieces), turned.volume(), 1e-12 * turned.volume()) << name;
+    expect_partition(turned, rotated.pieces, name + " (rotated)");
+  }
 }
 
 TEST(Decompose, ConvexInputComesBackUnchanged) {
