@@ -31,4 +31,31 @@ constexpr double kRotationConvexityZero = 1e-12;
 /// far above the rounding of the midpoints themselves (~1e-16 · scale).
 constexpr double kMidpointEpsilon = 1e-9;
 
+/// Margin of the culling boxes of hidden-line removal (kernel/roberts), relative to the size
+/// of the picture (or of the depth range): projections are rounded constructions, and a pair
+/// is skipped only when its boxes are apart by more than this, far above their rounding
+/// (~1e-15 relative). It never changes a result, only which pairs are tested.
+constexpr double kCullingMargin = 1e-9;
+
+/// Joining the boundary pieces of a union of shadow polygons into rings (kernel/polygon_union):
+/// where three or more edges cross at one exact point, the rounded crossings of different
+/// pairs of edges may differ by a few ulps, so an end with no start at its exact point is
+/// joined to the nearest free start within kChainJoinTolerance × |coordinates|. Only the
+/// rings' topology depends on it, never an area or a decision; beyond it the exact CGAL union
+/// gives the rings.
+constexpr double kChainJoinTolerance = 1e-12;
+
+/// Shadow rays of the raster renderer (render/ray_shadows): hits closer to the probe point than
+/// kShadowRayOffset × the scene's bounding-box diagonal are ignored. The probe point is a
+/// rounded construction on its face (a few ulps off the plane), and a ray leaving a facade's
+/// foot could otherwise meet the ground it stands on at t ≈ 1e-16; the probe's own face is
+/// skipped outright. Occluders nearer than this (1e-9 of the scene) are not seen.
+constexpr double kShadowRayOffset = 1e-9;
+
+/// Near clipping plane of a perspective raster view (render/raster_view), relative to the
+/// distance from the eye to the farthest corner of the scene's box: geometry nearer to the
+/// eye than that is cut away. Depth keys are −1/w, so it only bounds them; it is far below
+/// anything a picture can show.
+constexpr double kRasterNearPlane = 1e-5;
+
 }  // namespace hedra
