@@ -1,0 +1,456 @@
+#include "cli/shadows.h"
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "io/atomic_file.h"
+#include "io/scene_json.h"
+#include "kernel/error.h"
+#include "kernel/roberts.h"
+#include "kernel/shadows.h"
+#include "kernel/sun.h"
+#include "render/svg.h"
+
+namespace hedra::cli {
+namespace {
+
+using nlohmann::json;
+
+json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json ring_json(const Polygon3& ring) {
+  json r = json::array();
+  for (const Vec3& p : ring) r.push_back(vec(p));
+  return r;
+}
+
+// Rings as the issue's format wants them: a flat list, each outer ring (counter-clockwise seen
+// from outside the body) followed by its holes (clockwise).
+json polygons_json(const std::vector<ShadowPolygon>& polys) {
+  json out = json::array();
+  for (const ShadowPolygon& p : polys) {
+    out.push_back(ring_json(p.outer));
+    for (const Polygon3& h : p.holes) out.push_back(ring_json(h));
+  }
+  return out;
+}
+
+const char* type_name(Light::Type t) {
+  switch (t) {
+    case Light::Type::Directional:
+      return "directional";
+    case Light::Type::Point:
+      return "point";
+    case Light::Type::Spot:
+      return "spot";
+    case Light::Type::Sun:
+      return "sun";
+  }
+  return "directional";
+}
+
+json light_json(const Light& l) {
+  json j{{"type", type_name(l.type)}, {"intensity", l.intensity}, {"color", vec(l.color)}};
+  if (l.type != Light::Type::Point) j["direction"] = vec(l.direction);
+  if (l.type == Light::Type::Point || l.type == Light::Type::Spot) j["position"] = vec(l.position);
+  if (l.type == Light::Type::Spot) {
+    j["cone_deg"] = l.cone_deg;
+    j["falloff"] = l.falloff;
+  }
+  if (l.type == Light::Type::Sun) {
+    const SunPosition s = sun_position(l.latitude, l.longitude, l.time);
+    j["latitude"] = l.latitude;
+    j["longitude"] = l.longitude;
+    j["time"] = l.time.to_string();
+    j["elevation_deg"] = s.elevation_deg;
+    j["azimuth_deg"] = s.azimuth_deg;
+  }
+  return j;
+}
+
+std::string light_label(const Light& l) {
+  char buf[200];
+  switch (l.type) {
+    case Light::Type::Sun: {
+      const SunPosition s = sun_position(l.latitude, l.longitude, l.time);
+      std::snprintf(buf, sizeof buf, "sun at %.4g, %.4g, %s (elevation %.2f°, azimuth %.2f°)",
+                    l.latitude, l.longitude, l.time.to_string().c_str(), s.elevation_deg,
+                    s.azimuth_deg);
+      break;
+    }
+    case Light::Type::Directional:
+      std::snprintf(buf, sizeof buf, "directional (%.4g, %.4g, %.4g)", l.direction.x(),
+                    l.direction.y(), l.direction.z());
+      break;
+    case Light::Type::Point:
+    case Light::Type::Spot:
+      std::snprintf(buf, sizeof buf, "%s at (%.4g, %.4g, %.4g)", type_name(l.type), l.position.x(),
+                    l.position.y(), l.position.z());
+      break;
+  }
+  return buf;
+}
+
+// "hh:mm" on the given date, or a full ISO 8601 time.
+std::optional<UtcTime> parse_time(const std::string& text, const UtcTime* date) {
+  if (text.size() == 5 && text[2] == ':' && date != nullptr) {
+    char iso[32];
+    std::snprintf(iso, sizeof iso, "%04d-%02d-%02dT%s:00Z", date->year, date->month, date->day,
+                  text.c_str());
+    try {
+      return UtcTime::parse(iso);
+    } catch (const InvalidInput&) {
+      return std::nullopt;
+    }
+  }
+  try {
+    return UtcTime::parse(text);
+  } catch (const InvalidInput&) {
+    return std::nullopt;
+  }
+}
+
+// Step in minutes: "30", "30m", "30min" or "0.5h".
+std::optional<double> parse_step(const std::string& text) {
+  size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  const std::string unit = text.substr(used);
+  if (unit == "h")
+    v *= 60;
+  else if (!(unit.empty() || unit == "m" || unit == "min"))
+    return std::nullopt;
+  if (!(v > 0) || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+const Light* scene_sun(const Scene& scene) {
+  for (const Light& l : scene.lights)
+    if (l.type == Light::Type::Sun) return &l;
+  return nullptr;
+}
+
+// The top face of the body named "ground": the face whose outward normal is +z, highest.
+int ground_top(const Scene& scene, int& body) {
+  body = -1;
+  for (size_t b = 0; b < scene.bodies().size(); ++b)
+    if (scene.bodies()[b].name == "ground" && !scene.bodies()[b].hidden) body = static_cast<int>(b);
+  if (body < 0) return -1;
+  const Body& g = scene.bodies()[static_cast<size_t>(body)].body;
+  int best = -1;
+  double z = -1e300;
+  for (int f = 0; f < g.face_count(); ++f) {
+    if (g.inner_normal(f).z() > -0.999999) continue;
+    const double fz =
+        g.vertices()[static_cast<size_t>(g.faces()[static_cast<size_t>(f)].loops[0][0])].z();
+    if (fz > z) {
+      z = fz;
+      best = f;
+    }
+  }
+  return best;
+}
+
+// The hidden-line drawing with the visible parts of the shadow polygons under its lines:
+// one filled path per light and face (even–odd, so holes stay open), semi-transparent, so the
+// umbra of several lights comes out darker.
+std::string shadows_svg(const Scene& scene, const ShadowResult& result, const std::string& title) {
+  const HlrResult lines = hidden_lines(scene, HlrOptions{});
+  SvgStyle style;
+  style.width = scene.camera.width;
+  style.height = scene.camera.height;
+  style.background = scene.image.background;
+  style.title = title;
+  std::string svg = hidden_lines_svg(lines, style);
+  const PictureFit fit = fit_picture(lines.picture_box, style.width, style.height, style.margin);
+  const PictureProjection projection(scene.camera);
+  static const char* colours[] = {"#1f3b73", "#73251f", "#1f7335", "#6b1f73"};
+  std::string group = "<g id=\"shadows\" stroke=\"none\" fill-rule=\"evenodd\">\n";
+  char buf[64];
+  for (size_t l = 0; l < result.lights.size(); ++l) {
+    for (const FaceShadow& fs : result.lights[l].faces) {
+      if (fs.visible_polygons.empty()) continue;
+      std::string d;
+      auto ring = [&](const Polygon3& r) {
+        for (size_t i = 0; i < r.size(); ++i) {
+          const Vec2 p = fit.to_pixels(projection.project(r[i]));
+          std::snprintf(buf, sizeof buf, "%s%.2f %.2f", i ? " L" : "M", p.x(), p.y());
+          d += buf;
+        }
+        d += " Z ";
+      };
+      for (const ShadowPolygon& p : fs.visible_polygons) {
+        ring(p.outer);
+        for (const Polygon3& h : p.holes) ring(h);
+      }
+      // Inline style: the drawing's stylesheet sets `path { fill: none }`.
+      group += "<path style=\"fill:" + std::string(colours[l % 4]) +
+               ";fill-opacity:0.35;fill-rule:evenodd;stroke:none\" d=\"" + d + "\"/>\n";
+    }
+  }
+  group += "</g>\n";
+  // Under the lines: before the first group of the drawing.
+  const size_t at = svg.find("<g");
+  svg.insert(at == std::string::npos ? svg.rfind("</svg>") : at, group);
+  return svg;
+}
+
+}  // namespace
+
+CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
+  CLI::App* sub = app.add_subcommand(
+      "shadows", "Self shadows, exact cast-shadow polygons and sun hours of a scene's faces");
+  sub->add_option("scene", command.scene_file, "scene file (.json)")->required();
+  sub->add_option("--json", command.json_file, "write the report: faces, polygons, counts (JSON)");
+  sub->add_option("--svg", command.svg_file,
+                  "write the shadows over the hidden-line drawing (SVG)");
+  sub->add_option("--sun-hours", command.sun_hours,
+                  "sun study START END STEP: UTC times (ISO 8601, or hh:mm on the date of the "
+                  "scene's sun) and the step in minutes (30, 30m, 0.5h)")
+      ->expected(3)
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            if (parse_step(v) || parse_time(v, nullptr) || (v.size() == 5 && v[2] == ':'))
+              return "";
+            return "'" + v +
+                   "' is neither a time (2026-06-21T04:00:00Z or hh:mm) nor a step in minutes";
+          },
+          "TIME|STEP"));
+  sub->add_option("--grid", command.grid,
+                  "with --sun-hours: hours of sun at sample points on one face: BODY FACE SPACING")
+      ->expected(3);
+  sub->add_flag("--visible", command.visible_parts,
+                "report the parts of the shadows the camera sees (always with --svg)");
+  sub->add_option("--threads", command.threads, "worker threads (default: all)")
+      ->check(CLI::NonNegativeNumber);
+  return sub;
+}
+
+void run_shadows(const ShadowsCommand& command, std::ostream& out) {
+  const Scene scene = io::read_scene(command.scene_file);
+  if (scene.lights.empty())
+    throw InvalidInput(command.scene_file +
+                       ": the scene has no lights (shadows need at least one)");
+
+  // The sun study's inputs, checked before any work.
+  std::optional<SunStudyOptions> study_options;
+  if (!command.sun_hours.empty()) {
+    const Light* sun = scene_sun(scene);
+    if (sun == nullptr)
+      throw InvalidInput(
+          command.scene_file +
+          ": --sun-hours needs a sun light in the scene (its latitude and longitude)");
+    SunStudyOptions o;
+    o.latitude = sun->latitude;
+    o.longitude = sun->longitude;
+    const auto start = parse_time(command.sun_hours[0], &sun->time);
+    const auto end = parse_time(command.sun_hours[1], &sun->time);
+    const auto step = parse_step(command.sun_hours[2]);
+    if (!start || !end || !step)
+      throw InvalidInput("--sun-hours: expected START END STEP (times, then minutes), got '" +
+                         command.sun_hours[0] + " " + command.sun_hours[1] + " " +
+                         command.sun_hours[2] + "'");
+    o.start = *start;
+    o.end = *end;
+    o.step_minutes = *step;
+    o.threads = command.threads;
+    if (!command.grid.empty()) {
+      o.grid_body = command.grid[0];
+      try {
+        o.grid_face = std::stoi(command.grid[1]);
+        o.grid_spacing = std::stod(command.grid[2]);
+      } catch (const std::exception&) {
+        throw InvalidInput("--grid: expected BODY FACE SPACING, got '" + command.grid[1] + " " +
+                           command.grid[2] + "'");
+      }
+    }
+    study_options = o;
+  } else if (!command.grid.empty()) {
+    throw InvalidInput("--grid needs --sun-hours");
+  }
+
+  // The computation, timed without file I/O.
+  ShadowOptions options;
+  options.threads = command.threads;
+  options.visible_parts = command.visible_parts || !command.svg_file.empty();
+  const auto t0 = std::chrono::steady_clock::now();
+  ShadowResult result;
+  std::optional<SunStudy> study;
+  try {
+    result = compute_shadows(scene, options);
+    if (study_options) study = sun_study(scene, *study_options);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(command.scene_file + ": " + e.what());
+  }
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+
+  // Everything is formatted before anything is written.
+  std::string json_text, svg_text;
+  if (!command.json_file.empty()) {
+    json j;
+    j["ms"] = ms;
+    j["scene"] = command.scene_file;
+    json lights = json::array();
+    for (const LightShadows& ls : result.lights) {
+      json faces = json::array();
+      for (const FaceShadow& fs : ls.faces) {
+        json f{{"body", scene.bodies()[static_cast<size_t>(fs.body)].name},
+               {"face", fs.face},
+               {"area", fs.area},
+               {"self_shadowed", fs.self_shadowed()},
+               {"grazing", fs.grazing()},
+               {"visible", fs.visible},
+               {"shadow_area", fs.shadow_area},
+               {"polygons", polygons_json(fs.polygons)}};
+        if (options.visible_parts) {
+          f["visible_shadow_area"] = fs.visible_shadow_area;
+          f["visible_polygons"] = polygons_json(fs.visible_polygons);
+        }
+        faces.push_back(std::move(f));
+      }
+      lights.push_back({{"light", light_json(ls.light)}, {"faces", std::move(faces)}});
+    }
+    j["lights"] = std::move(lights);
+    json counts = json::array();
+    for (const ShadowCount& c : result.counts)
+      counts.push_back({{"body", scene.bodies()[static_cast<size_t>(c.body)].name},
+                        {"face", c.face},
+                        {"count", c.count},
+                        {"of", result.lights.size()},
+                        {"umbra", c.count == static_cast<int>(result.lights.size())},
+                        {"area", c.area},
+                        {"polygons", polygons_json(c.polygons)}});
+    j["counts"] = std::move(counts);
+    if (study) {
+      json st{{"latitude", study_options->latitude},
+              {"longitude", study_options->longitude},
+              {"start", study_options->start.to_string()},
+              {"end", study_options->end.to_string()},
+              {"step_minutes", study_options->step_minutes}};
+      json steps = json::array();
+      for (const SunStep& s : study->steps)
+        steps.push_back({{"time", s.time.to_string()},
+                         {"sun_up", s.sun_up},
+                         {"elevation_deg", s.elevation_deg},
+                         {"azimuth_deg", s.azimuth_deg},
+                         {"lit_fraction", s.lit_fraction}});
+      st["steps"] = std::move(steps);
+      json faces = json::array();
+      for (size_t b = 0; b < scene.bodies().size(); ++b) {
+        if (study->first_face[b] < 0) continue;
+        for (int f = 0; f < scene.bodies()[b].body.face_count(); ++f)
+          faces.push_back(
+              {{"body", scene.bodies()[b].name},
+               {"face", f},
+               {"sun_hours", study->sun_hours[static_cast<size_t>(study->first_face[b] + f)]}});
+      }
+      st["faces"] = std::move(faces);
+      if (!study_options->grid_body.empty()) {
+        json pts = json::array();
+        for (const Vec3& p : study->grid_points) pts.push_back(vec(p));
+        st["grid"] = {{"body", study_options->grid_body},
+                      {"face", study_options->grid_face},
+                      {"spacing", study_options->grid_spacing},
+                      {"points", std::move(pts)},
+                      {"sun_hours", study->grid_hours}};
+      }
+      j["sun_study"] = std::move(st);
+    }
+    json_text = j.dump() + "\n";
+  }
+  if (!command.svg_file.empty()) {
+    try {
+      svg_text = shadows_svg(scene, result, "hedra shadows " + command.scene_file);
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(command.scene_file + ": " + e.what());
+    }
+  }
+  if (!command.json_file.empty()) io::write_file_atomically(command.json_file, json_text);
+  if (!command.svg_file.empty()) io::write_file_atomically(command.svg_file, svg_text);
+
+  // Summary.
+  char buf[256];
+  int faces = 0;
+  for (const SceneBody* b : scene.visible_bodies()) faces += b->body.face_count();
+  std::snprintf(buf, sizeof buf, "shadows: %zu bodies, %d faces, %zu light%s; %.3g ms\n",
+                scene.visible_bodies().size(), faces, result.lights.size(),
+                result.lights.size() == 1 ? "" : "s", ms);
+  out << buf;
+  for (size_t l = 0; l < result.lights.size(); ++l) {
+    int self = 0, grazing = 0, cast = 0;
+    double cast_area = 0;
+    for (const FaceShadow& fs : result.lights[l].faces) {
+      self += fs.self_shadowed();
+      grazing += fs.grazing();
+      if (!fs.self_shadowed() && fs.shadow_area > 0) {
+        ++cast;
+        cast_area += fs.shadow_area;
+      }
+    }
+    std::snprintf(buf, sizeof buf,
+                  "  light %zu, %s: %d self-shadowed faces, %d grazing, cast shadows on %d faces "
+                  "(area %.6g)\n",
+                  l + 1, light_label(result.lights[l].light).c_str(), self, grazing, cast,
+                  cast_area);
+    out << buf;
+  }
+  if (result.lights.size() >= 2) {
+    double umbra = 0, partial = 0;
+    for (const ShadowCount& c : result.counts)
+      (c.count == static_cast<int>(result.lights.size()) ? umbra : partial) += c.area;
+    std::snprintf(buf, sizeof buf, "  umbra (all %zu lights) %.6g, partial shadow %.6g\n",
+                  result.lights.size(), umbra, partial);
+    out << buf;
+  }
+  if (study) {
+    int up = 0;
+    for (const SunStep& s : study->steps) up += s.sun_up;
+    double lo = 1e300, hi = 0;
+    for (double h : study->sun_hours) {
+      lo = std::min(lo, h);
+      hi = std::max(hi, h);
+    }
+    std::snprintf(buf, sizeof buf,
+                  "  sun study: %zu steps from %s to %s, sun up at %d; hours of direct sun per "
+                  "face from %.3g to %.3g\n",
+                  study->steps.size(), study_options->start.to_string().c_str(),
+                  study_options->end.to_string().c_str(), up, lo, hi);
+    out << buf;
+  }
+  if (!command.json_file.empty() || !command.svg_file.empty()) {
+    out << "wrote";
+    if (!command.json_file.empty()) out << " " << command.json_file;
+    if (!command.svg_file.empty()) out << " " << command.svg_file;
+    out << "\n";
+  }
+}
+
+void write_demo_shadows(const Scene& scene, const std::string& path, std::ostream& out) {
+  ShadowOptions options;
+  options.visible_parts = true;
+  const ShadowResult result = compute_shadows(scene, options);
+  io::write_file_atomically(path, shadows_svg(scene, result, "hedra demo: shadows"));
+  int body = -1;
+  const int face = ground_top(scene, body);
+  out << "shadows (exact polygons): ";
+  if (face >= 0 && !result.lights.empty()) {
+    const FaceShadow& g = result.face(0, body, face);
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "shadowed area of the ground %.6g of %.6g (%.2f %%), ",
+                  g.shadow_area, g.area, 100 * g.shadow_area / g.area);
+    out << buf;
+  }
+  out << "wrote " << path << "\n";
+}
+
+}  // namespace hedra::cli
