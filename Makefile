@@ -31,7 +31,8 @@ test-asan: deps
 
 # Benchmarks side by side with their peers; rewrites docs/benchmarks.md and the charts.
 bench-build:
-	bash scripts/install-deps.sh python3-matplotlib python3-numpy
+	bash scripts/install-deps.sh python3-matplotlib python3-numpy \
+	  libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev
 	cmake -S . -B $(BENCH_BUILD) -DCMAKE_BUILD_TYPE=Release -DHEDRA_BUILD_BENCH=ON -DHEDRA_BUILD_TESTS=OFF $(CMAKE_ARGS) > /dev/null
 	cmake --build $(BENCH_BUILD) -j$(JOBS)
 

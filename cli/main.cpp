@@ -7,7 +7,10 @@
 #include "cli/clip.h"
 #include "cli/decompose.h"
 #include "cli/demo.h"
+#include "cli/hlr.h"
 #include "cli/info.h"
+#include "cli/render.h"
+#include "cli/shadows.h"
 #include "io/mesh_io.h"
 #include "io/scene_json.h"
 #include "kernel/decompose.h"
@@ -61,6 +64,15 @@ int main(int argc, char** argv) {
   hedra::cli::ClipCommand clip_args;
   CLI::App* clip = hedra::cli::add_clip_subcommand(app, clip_args);
 
+  hedra::cli::HlrCommand hlr_args;
+  CLI::App* hlr = hedra::cli::add_hlr_subcommand(app, hlr_args);
+
+  hedra::cli::RenderCommand render_args;
+  CLI::App* render = hedra::cli::add_render_subcommand(app, render_args);
+
+  hedra::cli::ShadowsCommand shadows_args;
+  CLI::App* shadows = hedra::cli::add_shadows_subcommand(app, shadows_args);
+
   CLI::App* demo = app.add_subcommand("demo", "Build the embedded demo scene and report on it");
 
   try {
@@ -96,6 +108,12 @@ int main(int argc, char** argv) {
                 << (bodies.size() == 1 ? "y" : "ies") << ")\n";
     } else if (*clip) {
       hedra::cli::run_clip(clip_args, std::cout);
+    } else if (*hlr) {
+      hedra::cli::run_hlr(hlr_args, std::cout);
+    } else if (*render) {
+      hedra::cli::run_render(render_args, std::cout);
+    } else if (*shadows) {
+      hedra::cli::run_shadows(shadows_args, std::cout);
     } else if (*decompose) {
       hedra::cli::run_decompose(dec, std::cout);
     } else if (*demo) {
@@ -114,6 +132,10 @@ int main(int argc, char** argv) {
                   << ", box " << p.bbox().min().transpose() << " .. " << p.bbox().max().transpose()
                   << "\n";
       }
+      std::cout << "\n";
+      hedra::cli::write_demo_render(scene, "demo-render.png", std::cout);
+      hedra::cli::write_demo_hidden_lines(scene, "demo-hidden-lines.svg", std::cout);
+      hedra::cli::write_demo_shadows(scene, "demo-shadows.svg", std::cout);
     }
   } catch (const hedra::InvalidInput& e) {
     std::cerr << "hedra: error: " << e.what() << "\n";

@@ -431,9 +431,11 @@ class SceneReader {
     const Transform t = b.find("transform") ? read_transform(*b.find("transform")) : Transform();
     std::string note;
     std::optional<Body> body;
+    SmoothSurface surface;
     try {
-      body = build(shape, s, t, scene, note);
+      body = build(shape, s, t, scene, note, surface);
       if (!t.matrix().isIdentity()) body = body->transformed(t);
+      surface = surface.transformed(t);
     } catch (const InvalidInput& e) {
       if (std::string(e.what()).rfind(path_ + ":", 0) == 0) throw;
       fail(s, e.what());
@@ -442,10 +444,12 @@ class SceneReader {
     if (const JsonValue* m = b.find("material")) added.material = read_material(*m);
     if (const JsonValue* h = b.find("hidden")) added.hidden = flag(*h, "'hidden'");
     added.lod_note = note;
+    added.surface = surface;
   }
 
+  // `surface` receives the analytic surface of a curved primitive (in its own frame).
   Body build(const std::string& shape, const JsonValue& s, const Transform& t, const Scene& scene,
-             std::string& note) {
+             std::string& note, SmoothSurface& surface) {
     if (shape == "box") {
       allow(s, {"min", "max"});
       return box(vec3(member(s, "min"), "'min'"), vec3(member(s, "max"), "'max'"));
@@ -484,6 +488,8 @@ class SceneReader {
       const double tol = curved_tolerance(s, Vec3(0, 0, (z0 + z1) / 2), std::hypot(r, half), t, note);
       const int n = segments_for_tolerance(r, tol);
       note = std::to_string(n) + " sides: " + note;
+      surface = shape == "cylinder" ? SmoothSurface::cylinder(r, z0, z1)
+                                    : SmoothSurface::cone(r, z0, z1);
       return shape == "cylinder" ? cylinder(r, z0, z1, tol) : cone(r, z0, z1, tol);
     }
     if (shape == "sphere") {
@@ -493,6 +499,7 @@ class SceneReader {
       const double tol = curved_tolerance(s, c, r, t, note);
       Body body = sphere(c, r, tol);
       note = std::to_string(body.face_count()) + " faces: " + note;
+      surface = SmoothSurface::sphere(c, r);
       return body;
     }
     if (shape == "mesh") {

@@ -19,7 +19,7 @@ SceneBody& Scene::add(const std::string& name, const Body& body, const Material&
   if (name.empty()) throw InvalidInput("a body needs a non-empty name");
   if (contains(name)) throw InvalidInput("body name '" + name + "' is used twice");
   material.validate();
-  bodies_.push_back({name, body, material, false, ""});
+  bodies_.push_back({name, body, material, false, "", SmoothSurface()});
   return bodies_.back();
 }
 

@@ -7,6 +7,7 @@
 #include "kernel/body.h"
 #include "kernel/camera.h"
 #include "kernel/light.h"
+#include "kernel/smooth_surface.h"
 
 namespace hedra {
 
@@ -28,10 +29,14 @@ struct SceneBody {
   bool hidden = false;
   /// For curved primitives: how the tessellation was chosen ("chordal tolerance 0.01").
   std::string lod_note;
+  /// For curved primitives: the analytic surface, whose normals smooth shading uses
+  /// (render/raster.h). None for every other body: all faces shade flat.
+  SmoothSurface surface;
 
   SceneBody& with_material(const Material& m) { material = m; return *this; }
   SceneBody& with_color(const Vec3& c) { material.color = c; return *this; }
   SceneBody& hide() { hidden = true; return *this; }
+  SceneBody& with_surface(const SmoothSurface& s) { surface = s; return *this; }
 };
 
 struct ImageSettings {

@@ -18,6 +18,9 @@ import sys
 import matplotlib
 
 from clip_report import clipping
+from hlr_report import hidden_lines
+from render_report import rendering
+from shadows_report import shadows
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -185,7 +188,7 @@ def decomposition(results, docs, quick):
     return "\n".join(lines) + "\n"
 
 
-SECTIONS = [decomposition, clipping]
+SECTIONS = [decomposition, clipping, hidden_lines, rendering, shadows]
 
 
 def main():
