@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli/info.h"
 #include "io/atomic_file.h"
 #include "io/scene_json.h"
 #include "kernel/error.h"
@@ -44,7 +45,7 @@ CLI::App* add_hlr_subcommand(CLI::App& app, HlrCommand& command) {
 }
 
 void run_hlr(const HlrCommand& command, std::ostream& out) {
-  const Scene scene = io::read_scene(command.scene_file);
+  const Scene scene = load_scene(command.scene_file);
   HlrOptions options;
   options.hidden = command.hidden;
   HlrResult result;

@@ -103,4 +103,13 @@ std::vector<NamedBody> load_bodies(const std::string& path, double coplanar_tole
   return named;
 }
 
+Scene load_scene(const std::string& path) {
+  if (io::is_scene_path(path)) return io::read_scene(path);
+  Scene scene;
+  for (const NamedBody& nb : load_bodies(path)) scene.add(nb.name, nb.body);
+  scene.camera = Camera::parallel({-1, -2, -1.5}, {0, 0, 1});
+  scene.lights.push_back(Light::directional({-1, -1.5, -3}, 0.9));
+  return scene;
+}
+
 }  // namespace hedra::cli

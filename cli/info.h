@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "kernel/body.h"
+#include "kernel/scene.h"
 
 namespace hedra::cli {
 
@@ -21,6 +22,11 @@ struct NamedBody {
 /// \throw InvalidInput, IoError.
 std::vector<NamedBody> load_bodies(const std::string& path, double coplanar_tolerance = 0,
                                    double planarity_tolerance = -1);
+
+/// A scene file as it is, or a mesh file as a scene of its bodies seen parallel from
+/// (1, 2, 1.5) towards the origin, under a directional light from the same side (a mesh file
+/// has no camera or lights). What `hlr`, `shadows` and `render` read. \throw InvalidInput, IoError.
+Scene load_scene(const std::string& path);
 
 /// Bodies with at most this many faces print their body matrix without --matrix.
 constexpr int kSmallBodyFaces = 12;

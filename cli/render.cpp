@@ -39,17 +39,6 @@ const char* shading_name(Shading s) {
   return s == Shading::Flat ? "flat" : s == Shading::Gouraud ? "Gouraud" : "Phong";
 }
 
-// A mesh file has no camera or lights: it is shown from (1, 2, 3) towards the origin
-// direction, parallel, under a light from the same side.
-Scene scene_of(const std::string& path) {
-  if (io::is_scene_path(path)) return io::read_scene(path);
-  Scene scene;
-  for (const NamedBody& nb : load_bodies(path)) scene.add(nb.name, nb.body);
-  scene.camera = Camera::parallel({-1, -2, -1.5}, {0, 0, 1});
-  scene.lights.push_back(Light::directional({-1, -1.5, -3}, 0.9));
-  return scene;
-}
-
 }  // namespace
 
 CLI::App* add_render_subcommand(CLI::App& app, RenderCommand& c) {
@@ -80,7 +69,7 @@ CLI::App* add_render_subcommand(CLI::App& app, RenderCommand& c) {
 
 void run_render(const RenderCommand& c, std::ostream& out) {
   const auto start = std::chrono::steady_clock::now();
-  const Scene scene = scene_of(c.scene_file);
+  const Scene scene = load_scene(c.scene_file);
   RenderOptions options;
   options.width = c.width;
   options.height = c.height;

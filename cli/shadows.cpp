@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "cli/info.h"
 #include "io/atomic_file.h"
 #include "io/scene_json.h"
 #include "kernel/error.h"
@@ -36,6 +37,18 @@ json polygons_json(const std::vector<ShadowPolygon>& polys) {
   for (const ShadowPolygon& p : polys) {
     out.push_back(ring_json(p.outer));
     for (const Polygon3& h : p.holes) out.push_back(ring_json(h));
+  }
+  return out;
+}
+
+// Which rings of polygons_json(polys) are holes (their indices), so a reader need not tell
+// them by orientation.
+json hole_indices(const std::vector<ShadowPolygon>& polys) {
+  json out = json::array();
+  int ring = 0;
+  for (const ShadowPolygon& p : polys) {
+    ++ring;
+    for (size_t h = 0; h < p.holes.size(); ++h) out.push_back(ring++);
   }
   return out;
 }
@@ -236,7 +249,7 @@ CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
 }
 
 void run_shadows(const ShadowsCommand& command, std::ostream& out) {
-  const Scene scene = io::read_scene(command.scene_file);
+  const Scene scene = load_scene(command.scene_file);
   if (scene.lights.empty())
     throw InvalidInput(command.scene_file +
                        ": the scene has no lights (shadows need at least one)");
@@ -311,7 +324,8 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
                {"grazing", fs.grazing()},
                {"visible", fs.visible},
                {"shadow_area", fs.shadow_area},
-               {"polygons", polygons_json(fs.polygons)}};
+               {"polygons", polygons_json(fs.polygons)},
+               {"holes", hole_indices(fs.polygons)}};
         if (options.visible_parts) {
           f["visible_shadow_area"] = fs.visible_shadow_area;
           f["visible_polygons"] = polygons_json(fs.visible_polygons);
@@ -329,7 +343,8 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
                         {"of", result.lights.size()},
                         {"umbra", c.count == static_cast<int>(result.lights.size())},
                         {"area", c.area},
-                        {"polygons", polygons_json(c.polygons)}});
+                        {"polygons", polygons_json(c.polygons)},
+                        {"holes", hole_indices(c.polygons)}});
     j["counts"] = std::move(counts);
     if (study) {
       json st{{"latitude", study_options->latitude},

@@ -20,12 +20,8 @@
 #include "render/scene_geometry.h"
 #include "render/shadow_map.h"
 
-#if HEDRA_HAVE_SHADOWS
-#include "kernel/shadows.h"
-#endif
-#if HEDRA_HAVE_ROBERTS
 #include "kernel/roberts.h"
-#endif
+#include "kernel/shadows.h"
 
 namespace hedra {
 namespace {
@@ -388,7 +384,6 @@ std::string ShadowSettings::to_string() const {
 }
 
 SurfaceShadows exact_shadow_polygons(const Scene& scene) {
-#if HEDRA_HAVE_SHADOWS
   ShadowOptions options;
   options.counts = false;
   const ShadowResult result = compute_shadows(scene, options);
@@ -406,10 +401,6 @@ SurfaceShadows exact_shadow_polygons(const Scene& scene) {
       out[l].push_back(std::move(s));
     }
   return out;
-#else
-  (void)scene;
-  throw InvalidInput("exact shadows need kernel/shadows (issue 7), which is not part of this build");
-#endif
 }
 
 Image render(const Scene& scene, const RenderOptions& options, SampleRecord* record,
@@ -714,16 +705,11 @@ RasterView scene_view(const Scene& scene, int width, int height) {
 }
 
 void draw_hidden_lines(Image& image, const Scene& scene, const Vec3& colour, double width) {
-#if HEDRA_HAVE_ROBERTS
   const HlrResult lines = hidden_lines(scene);
   const RasterView view = scene_view(scene, image.width, image.height);
   std::vector<std::array<Eigen::Vector2d, 2>> segments;
   for (const HlrSegment& s : lines.visible) segments.push_back({view.project(s.a), view.project(s.b)});
   draw_segments(image, segments, colour, width);
-#else
-  (void)image, (void)scene, (void)colour, (void)width;
-  throw InvalidInput("--lines needs kernel/roberts (issue 6), which is not part of this build");
-#endif
 }
 
 void draw_segments(Image& image, const std::vector<std::array<Eigen::Vector2d, 2>>& segments,

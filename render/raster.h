@@ -144,8 +144,7 @@ void draw_segments(Image& image, const std::vector<std::array<Eigen::Vector2d, 2
 
 /// The hidden-line overlay: the visible edges and junction lines of kernel/roberts.h's
 /// hidden_lines(scene), projected with scene_view and drawn on an image of the scene.
-/// 	hrow InvalidInput from hidden_lines (e.g. a perspective eye inside a body), or when
-///   kernel/roberts is not part of this build.
+/// \throw InvalidInput from hidden_lines (e.g. a perspective eye inside a body).
 void draw_hidden_lines(Image& image, const Scene& scene, const Vec3& colour = Vec3(0.08, 0.08, 0.1),
                        double width = 1.0);
 

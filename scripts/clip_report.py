@@ -10,12 +10,11 @@ page from a list of sections.
 """
 import json
 import os
-import platform
-import re
 import statistics
-import sys
 
 import matplotlib
+
+from bench_common import collect, machine, standalone
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -24,41 +23,6 @@ SHAPES = {0: "box (6 faces)", 1: "icosahedron (20 faces)"}
 DATASETS = {0: "random segments", 1: "segments through vertices, along edges, in face planes"}
 VARIANTS = {0: "Cyrus–Beck, exact decisions", 1: "Cyrus–Beck, plain double", 2: "midpoint subdivision"}
 TARGET = 100e6  # segments/s, 2 threads, 6-face body (design.md)
-
-
-def machine():
-    model = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    return f"{os.cpu_count()} cores, {model}, {platform.system()} {platform.release()}"
-
-
-def parse(name):
-    """'BM_Batch/shape:0/threads:2/real_time' -> ('BM_Batch', {'shape': 0, 'threads': 2})."""
-    parts = name.split("/")
-    args = {}
-    for p in parts[1:]:
-        m = re.fullmatch(r"(\w+):(-?\d+)", p)
-        if m:
-            args[m.group(1)] = int(m.group(2))
-    return parts[0], args
-
-
-def collect(data):
-    """(benchmark, frozen args) -> list of repetitions (aggregates dropped)."""
-    out = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate":
-            continue
-        base, args = parse(b["run_name"] if "run_name" in b else b["name"])
-        out.setdefault((base, tuple(sorted(args.items()))), []).append(b)
-    return out
 
 
 def median(entries, key):
@@ -261,21 +225,9 @@ def clipping(results, docs, quick=False):
     return "\n".join(lines) + "\n"
 
 
+
 def main():
-    results, docs = sys.argv[1], sys.argv[2]
-    section = clipping(results, docs, bool(os.environ.get("HEDRA_BENCH_QUICK")))
-    if not section:
-        sys.exit(f"{results}/clip_bench.json not found")
-    page = os.path.join(docs, "benchmarks.md")
-    text = open(page).read() if os.path.exists(page) else "# Benchmarks\n\n"
-    start = text.find("## Clipping")
-    if start < 0:
-        text = text.rstrip("\n") + "\n\n" + section
-    else:
-        end = text.find("\n## ", start + 1)
-        text = text[:start] + section + ("" if end < 0 else text[end + 1:])
-    with open(page, "w") as f:
-        f.write(text)
+    standalone(clipping, "clip_bench", "## Clipping")
 
 
 if __name__ == "__main__":

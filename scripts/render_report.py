@@ -10,12 +10,11 @@ page from a list of sections.
 """
 import json
 import os
-import platform
-import re
 import statistics
-import sys
 
 import matplotlib
+
+from bench_common import collect, machine, standalone
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -26,43 +25,14 @@ TARGET_MS = 200  # N = 40, 1024², Phong, exact shadows, 2 threads (design.md)
 FLOOR = 1e-6     # errors of 0 are drawn here on the log scale
 
 
-def machine():
-    model = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    return f"{os.cpu_count()} cores, {model}, {platform.system()} {platform.release()}"
-
-
-def parse(name):
-    """'BM_Render/scene:1/method:7/real_time' -> ('BM_Render', {'scene': 1, 'method': 7})."""
-    parts = name.split("/")
-    args = {}
-    for p in parts[1:]:
-        m = re.fullmatch(r"(\w+):(-?\d+)", p)
-        if m:
-            args[m.group(1)] = int(m.group(2))
-    return parts[0], args
-
-
-def collect(data):
-    out = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate":
-            continue
-        base, args = parse(b.get("run_name", b["name"]))
-        out.setdefault((base, tuple(sorted(args.items()))), []).append(b)
-    return out
-
-
 def ms(entries):
     scale = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
     return statistics.median(e["real_time"] * scale[e["time_unit"]] for e in entries)
+
+
+def ms_all(entries):
+    scale = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
+    return [e["real_time"] * scale[e["time_unit"]] for e in entries]
 
 
 def median(entries, key):
@@ -80,7 +50,8 @@ def rows_of(runs):
         rows.append({
             "scene": a["scene"], "method": int(e["method"]), "label": e.get("label", ""),
             "resolution": int(e["resolution"]), "bias": e["bias"], "probes": int(e["probes"]),
-            "ms": ms(entries), "shadows_ms": median(entries, "shadows_ms"),
+            "ms": ms(entries), "ms_min": min(ms_all(entries)), "ms_max": max(ms_all(entries)),
+            "shadows_ms": median(entries, "shadows_ms"),
             "raster_ms": median(entries, "raster_ms"), "setup_ms": median(entries, "setup_ms"),
             "pixel_error": e.get("pixel_error"), "area_error": e.get("area_error"),
             "exact_area": e.get("exact_area")})
@@ -95,10 +66,16 @@ def fmt_err(x):
 
 
 def table(rows):
-    lines = ["| scene | method | ms | of which shadows | raster | pixels differing from exact | ground area error |",
-             "|---|---|---|---|---|---|---|"]
+    """One row per scene and method; *÷ exact*: the method's time over the exact method's on the
+    same scene (below 1: faster than exact, at the error shown)."""
+    exact_ms = {r["scene"]: r["ms"] for r in rows if r["method"] == 1}
+    lines = ["| scene | method | ms [min–max] | ÷ exact | of which shadows | raster | pixels differing from exact | "
+             "ground area error |",
+             "|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        lines.append(f"| {SCENES[r['scene']]} | `{r['label']}` | {r['ms']:.1f} | {r['shadows_ms']:.1f} | "
+        ratio = f"{r['ms'] / exact_ms[r['scene']]:.2f}" if r["scene"] in exact_ms else "–"
+        lines.append(f"| {SCENES[r['scene']]} | `{r['label']}` | {r['ms']:.1f} [{r['ms_min']:.1f}–{r['ms_max']:.1f}] | "
+                     f"{ratio} | {r['shadows_ms']:.1f} | "
                      f"{r['raster_ms']:.1f} | {fmt_err(r['pixel_error'])} | {fmt_err(r['area_error'])} |")
     return lines
 
@@ -194,21 +171,9 @@ def rendering(results, docs, quick=False):
     return "\n".join(lines) + "\n"
 
 
+
 def main():
-    results, docs = sys.argv[1], sys.argv[2]
-    section = rendering(results, docs, bool(os.environ.get("HEDRA_BENCH_QUICK")))
-    if not section:
-        sys.exit(f"{results}/render_bench.json not found")
-    page = os.path.join(docs, "benchmarks.md")
-    text = open(page).read() if os.path.exists(page) else "# Benchmarks\n\n"
-    start = text.find("## Rendering")
-    if start < 0:
-        text = text.rstrip("\n") + "\n\n" + section
-    else:
-        end = text.find("\n## ", start + 1)
-        text = text[:start] + section + ("" if end < 0 else text[end + 1:])
-    with open(page, "w") as f:
-        f.write(text)
+    standalone(rendering, "render_bench", "## Rendering")
 
 
 if __name__ == "__main__":

@@ -10,12 +10,11 @@ page from a list of sections.
 """
 import json
 import os
-import platform
-import re
 import statistics
-import sys
 
 import matplotlib
+
+from bench_common import collect, machine, standalone
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -23,41 +22,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 TARGET_MS = 20.0      # N = 40 (design.md)
 TARGET_ERROR = 1e-9   # ground fraction against the CGAL exact union
 FLOOR = 1e-17         # errors of 0 are drawn here on the log scale
-
-
-def machine():
-    model = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    model = line.split(":", 1)[1].strip()
-                    break
-    except OSError:
-        pass
-    return f"{os.cpu_count()} cores, {model}, {platform.system()} {platform.release()}"
-
-
-def parse(name):
-    """'BM_HedraExact/n:40/threads:2/real_time' -> ('BM_HedraExact', {'n': 40, 'threads': 2})."""
-    parts = name.split("/")
-    args = {}
-    for p in parts[1:]:
-        m = re.fullmatch(r"(\w+):(-?\d+)", p)
-        if m:
-            args[m.group(1)] = int(m.group(2))
-    return parts[0], args
-
-
-def collect(data):
-    """(benchmark, frozen args) -> list of repetitions (aggregates dropped)."""
-    out = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate":
-            continue
-        base, args = parse(b.get("run_name", b["name"]))
-        out.setdefault((base, tuple(sorted(args.items()))), []).append(b)
-    return out
 
 
 def to_ms(entry):
@@ -176,21 +140,9 @@ def shadows(results, docs, quick=False):
     return "\n".join(lines) + "\n"
 
 
+
 def main():
-    results, docs = sys.argv[1], sys.argv[2]
-    section = shadows(results, docs, bool(os.environ.get("HEDRA_BENCH_QUICK")))
-    if not section:
-        sys.exit(f"{results}/shadows_bench.json not found")
-    page = os.path.join(docs, "benchmarks.md")
-    text = open(page).read() if os.path.exists(page) else "# Benchmarks\n\n"
-    start = text.find("## Shadows")
-    if start < 0:
-        text = text.rstrip("\n") + "\n\n" + section
-    else:
-        end = text.find("\n## ", start + 1)
-        text = text[:start] + section + ("" if end < 0 else text[end + 1:])
-    with open(page, "w") as f:
-        f.write(text)
+    standalone(shadows, "shadows_bench", "## Shadows")
 
 
 if __name__ == "__main__":

@@ -5,41 +5,21 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_run.h"
 #include "bad_files.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out;
-  std::string err;
-};
+using Result = hedra::testing::CliResult;
 
-Result run(const std::string& args) {
-  static int calls = 0;
-  const fs::path err_file = fs::temp_directory_path() /
-                            ("hedra_cli_stderr_" + std::to_string(::getpid()) + "_" +
-                             std::to_string(++calls) + ".txt");
-  std::string command = std::string(HEDRA_BIN) + " " + args + " 2>" + err_file.string();
-  std::FILE* pipe = ::popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  int status = ::pclose(pipe);
-  std::string err;
-  if (std::FILE* f = std::fopen(err_file.c_str(), "r")) {
-    while (size_t n = std::fread(buf.data(), 1, buf.size(), f)) err.append(buf.data(), n);
-    std::fclose(f);
-  }
-  fs::remove(err_file);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err};
-}
+Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
 fs::path temp_dir(const char* name) {
   fs::path d = fs::temp_directory_path() / (std::string("hedra_cli_") + name);
@@ -78,6 +58,27 @@ TEST(Cli, InfoJsonOnAnLPrism) {
   EXPECT_EQ(b["convex"], false);
   EXPECT_EQ(b["nonconvex_faces"], nlohmann::json({4, 5}));
   EXPECT_EQ(b["matrix"].size(), 8u);
+}
+
+// `hedra info` on a scene file: every visible body (hidden Boolean operands left out), and for
+// each curved one how many faces it got and why.
+TEST(Cli, InfoOnASceneFileReportsEveryBodyAndItsLevelOfDetail) {
+  const std::string scene = std::string(HEDRA_SOURCE_DIR) + "/examples/city-block.json";
+  Result r = run("info --json " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["bodies"].size(), 11u);
+  std::map<std::string, nlohmann::json> by_name;
+  for (const auto& b : j["bodies"]) by_name[b["name"].get<std::string>()] = b;
+  EXPECT_EQ(by_name.count("blockA"), 0u);
+  EXPECT_EQ(by_name["cut"]["volume"], 6.0 * 6 * 4 - 4 * 4 * 2);
+  EXPECT_EQ(by_name["s"]["faces"], 512);
+  EXPECT_NE(by_name["s"]["lod"].get<std::string>().find("512 faces"), std::string::npos) << by_name["s"];
+  EXPECT_NE(by_name["tower"]["lod"].get<std::string>().find("pixel_tolerance 0.5 px"), std::string::npos);
+  r = run("info " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("level of detail:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  tower: "), std::string::npos) << r.out;
 }
 
 TEST(Cli, ConvertThenInfo) {

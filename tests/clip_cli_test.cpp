@@ -1,5 +1,7 @@
 // `hedra clip` end to end: output format, inside/outside, methods, pieces, errors and exit codes.
 #include <gtest/gtest.h>
+
+#include "cli_run.h"
 #include <unistd.h>
 
 #include <array>
@@ -14,31 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out;
-  std::string err;
-};
+using Result = hedra::testing::CliResult;
 
-Result run(const std::string& args) {
-  static int calls = 0;
-  const fs::path err_file =
-      fs::temp_directory_path() / ("hedra_clip_cli_stderr_" + std::to_string(::getpid()) + "_" +
-                                   std::to_string(++calls) + ".txt");
-  const std::string command = std::string(HEDRA_BIN) + " " + args + " 2>" + err_file.string();
-  std::FILE* pipe = ::popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = ::pclose(pipe);
-  std::string err;
-  if (std::FILE* f = std::fopen(err_file.c_str(), "r")) {
-    while (size_t n = std::fread(buf.data(), 1, buf.size(), f)) err.append(buf.data(), n);
-    std::fclose(f);
-  }
-  fs::remove(err_file);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err};
-}
+Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
 fs::path temp_dir(const char* name) {
   const fs::path d = fs::temp_directory_path() /

@@ -153,14 +153,44 @@ TEST(Decompose, ConvexInputComesBackUnchanged) {
   EXPECT_EQ(d.cuts, 0);
 }
 
+// Every suite shape, large ones included, and each rotated: the same pieces (vertex for vertex,
+// in the same order) at 1 and 2 threads.
 TEST(Decompose, SameResultAtAnyThreadCount) {
-  const Body body = suite::rotated(suite::plate_with_holes(3));
-  DecomposeOptions one, two;
-  one.threads = 1;
-  two.threads = 2;
-  Decomposition a = decompose(body, one), b = decompose(body, two);
-  ASSERT_EQ(a.pieces.size(), b.pieces.size());
-  for (size_t i = 0; i < a.pieces.size(); ++i) EXPECT_EQ(a.pieces[i].vertices(), b.pieces[i].vertices());
+  for (const suite::Shape& shape : suite::shapes(true))
+    for (bool rotate : {false, true}) {
+      const Body body = rotate ? suite::rotated(shape.body) : shape.body;
+      DecomposeOptions one, two;
+      one.threads = 1;
+      two.threads = 2;
+      Decomposition a = decompose(body, one), b = decompose(body, two);
+      ASSERT_EQ(a.pieces.size(), b.pieces.size()) << shape.name << (rotate ? " rotated" : "");
+      for (size_t i = 0; i < a.pieces.size(); ++i)
+        EXPECT_EQ(a.pieces[i].vertices(), b.pieces[i].vertices()) << shape.name << (rotate ? " rotated" : "");
+    }
+}
+
+// The two large suite shapes (comb 64, plate with 10 × 10 holes), plain and rotated: exact
+// verification, convex pieces, volumes, cover, and the same piece count after rotation.
+TEST(Decompose, LargeSuiteShapesExactConvexCoveringAndRotationInvariant) {
+  std::vector<suite::Shape> large = suite::shapes(true);
+  large.erase(large.begin(), large.begin() + static_cast<long>(suite::shapes(false).size()));
+  ASSERT_EQ(large.size(), 2u);
+  for (const suite::Shape& shape : large) {
+    size_t plain_pieces = 0;
+    for (bool rotate : {false, true}) {
+      const Body body = rotate ? suite::rotated(shape.body) : shape.body;
+      const std::string name = shape.name + (rotate ? " (rotated)" : "");
+      DecomposeOptions options;
+      options.verify = true;
+      const Decomposition d = decompose(body, options);
+      EXPECT_TRUE(d.verified) << name;
+      for (const Body& piece : d.pieces) EXPECT_TRUE(convexity(piece).convex) << name;
+      EXPECT_NEAR(total_volume(d.pieces), body.volume(), 1e-12 * body.volume()) << name;
+      expect_partition(body, d.pieces, name);
+      if (rotate) EXPECT_EQ(d.pieces.size(), plain_pieces) << name;
+      plain_pieces = d.pieces.size();
+    }
+  }
 }
 
 TEST(Decompose, MaxPiecesAndCancellation) {

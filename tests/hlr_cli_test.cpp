@@ -1,8 +1,11 @@
 // `hedra hlr` end to end: the JSON format, the SVG, errors and exit codes, no half-written files.
 #include <gtest/gtest.h>
+
+#include "cli_run.h"
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,30 +18,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out;
-  std::string err;
-};
+using Result = hedra::testing::CliResult;
 
-Result run(const std::string& args) {
-  static int calls = 0;
-  const fs::path err_file = fs::temp_directory_path() / ("hedra_hlr_cli_stderr_" + std::to_string(::getpid()) +
-                                                         "_" + std::to_string(++calls) + ".txt");
-  const std::string command = std::string(HEDRA_BIN) + " " + args + " 2>" + err_file.string();
-  std::FILE* pipe = ::popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = ::pclose(pipe);
-  std::string err;
-  if (std::FILE* f = std::fopen(err_file.c_str(), "r")) {
-    while (size_t n = std::fread(buf.data(), 1, buf.size(), f)) err.append(buf.data(), n);
-    std::fclose(f);
-  }
-  fs::remove(err_file);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err};
-}
+Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
 fs::path temp_dir(const char* name) {
   const fs::path d = fs::temp_directory_path() / (std::string("hedra_hlr_cli_") + std::to_string(::getpid()) + "_" + name);
@@ -74,6 +56,30 @@ bool has(const nlohmann::json& list, std::array<double, 6> s) {
     if (std::array<double, 6>{v[3], v[4], v[5], v[0], v[1], v[2]} == s) return true;
   }
   return false;
+}
+
+const char* kCubeOff = "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                       "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+
+// A mesh file is a scene of its bodies, seen parallel along (−1, −2, −1.5): a unit cube shows
+// three faces, so 9 visible edges of length 1 and 3 hidden ones.
+TEST(HlrCli, AcceptsAMeshFile) {
+  const fs::path dir = temp_dir("mesh");
+  write(dir / "cube.off", kCubeOff);
+  const Result r = run("hlr " + (dir / "cube.off").string() + " --hidden --json " + (dir / "c.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(read(dir / "c.json"));
+  auto length = [](const nlohmann::json& list) {
+    double total = 0;
+    for (const auto& s : list)
+      total += std::hypot(s[3].get<double>() - s[0].get<double>(), s[4].get<double>() - s[1].get<double>(),
+                          s[5].get<double>() - s[2].get<double>());
+    return total;
+  };
+  EXPECT_NEAR(length(j["visible"]), 9.0, 1e-12);
+  EXPECT_NEAR(length(j["hidden"]), 3.0, 1e-12);
+  EXPECT_TRUE(j["junction"].empty());
+  fs::remove_all(dir);
 }
 
 TEST(HlrCli, WritesJsonAndSvg) {

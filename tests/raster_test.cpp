@@ -596,6 +596,82 @@ TEST(RasterShadows, ShadowMapWithoutBiasShowsAcne) {
   EXPECT_GT(wrong, lit / 20) << "expected acne on lit faces";
 }
 
+// Light 0 (directional) on the faces that face it: samples the exact polygons put in shadow
+// but the method leaves lit (`leaks`), and the other way round (`extra`).
+struct ShadowDisagreement {
+  int leaks = 0, extra = 0, compared = 0, in_shadow = 0;
+};
+ShadowDisagreement disagreement(const Scene& scene, const ShadowResult& exact, const std::string& method,
+                                int only_body = -1) {
+  RenderOptions o;
+  o.shadows = ShadowSettings::parse(method);
+  SampleRecord rec;
+  render(scene, o, &rec);
+  ShadowDisagreement d;
+  for (size_t i = 0; i < rec.body.size(); ++i) {
+    if (rec.body[i] < 0 || (only_body >= 0 && rec.body[i] != only_body)) continue;
+    const FaceShadow& fs = exact.face(0, rec.body[i], rec.face[i]);
+    if (fs.to_light != Facing::Front) continue;
+    const Vec3 p = sample_point(rec, static_cast<int>(i % rec.columns), static_cast<int>(i / rec.columns));
+    const bool in = point_in_polygons(fs.polygons, p), got = rec.shadow[i * rec.lights] == 1.0f;
+    d.in_shadow += in;
+    d.leaks += in && !got;
+    d.extra += !in && got;
+    ++d.compared;
+  }
+  return d;
+}
+
+// A rotated block on the ground under a low directional light, seen from straight above: a
+// long shadow whose edges run at angles to the shadow map's texels.
+Scene low_sun_scene() {
+  Scene scene;
+  scene.add("ground", box({-10, -10, -1}, {10, 10, 0}));
+  scene.add("block", box({-2, -2, 0}, {2, 2, 4}).rotated_z(25, {0, 0, 0}));
+  scene.camera = Camera::parallel({0, 0, -1}, {0, 1, 0});
+  scene.camera.width = scene.camera.height = 200;
+  scene.lights.push_back(Light::directional({-1, -0.5, -0.8}, 0.9));
+  return scene;
+}
+
+// A thin plate (0.1 thick) floating 0.4 above the ground under the same low light, seen from
+// straight above: its shadow on the ground lies about 0.85 units beyond the plate's top along
+// every light ray.
+Scene thin_plate_scene() {
+  Scene scene;
+  scene.add("ground", box({-10, -10, -1}, {10, 10, 0}));
+  scene.add("plate", box({-3, -3, 0.4}, {3, 3, 0.5}).rotated_z(25, {0, 0, 0}));
+  scene.camera = Camera::parallel({0, 0, -1}, {0, 1, 0});
+  scene.camera.width = scene.camera.height = 200;
+  scene.lights.push_back(Light::directional({-1, -0.5, -0.8}, 0.9));
+  return scene;
+}
+
+// Light leaking (peter-panning): a large bias pushes the shadow away from the casters' feet,
+// so shadowed ground next to them turns lit; a small bias leaks far less.
+TEST(RasterShadows, ShadowMapWithALargeBiasLeaksLight) {
+  const Scene scene = thin_plate_scene();
+  const ShadowResult exact = compute_shadows(scene);
+  const ShadowDisagreement small = disagreement(scene, exact, "map:1024:3", 0);
+  const ShadowDisagreement large = disagreement(scene, exact, "map:1024:60", 0);
+  ASSERT_GT(small.in_shadow, 200);
+  EXPECT_LT(small.leaks, small.in_shadow / 50) << "3 texels of bias: the plate's shadow is there";
+  EXPECT_GT(large.leaks, small.in_shadow * 9 / 10) << "60 texels (≈ 1.8 units) of bias: the shadow is gone";
+}
+
+// Aliasing: shadow edges follow the texels, so a coarse map misjudges a band of ground samples
+// along the edges of a rotated block's long shadow, and the band narrows as the resolution grows.
+TEST(RasterShadows, ShadowMapAliasingShrinksWithResolution) {
+  const Scene scene = low_sun_scene();
+  const ShadowResult exact = compute_shadows(scene);
+  const ShadowDisagreement coarse = disagreement(scene, exact, "map:64:3", 0);
+  const ShadowDisagreement fine = disagreement(scene, exact, "map:1024:3", 0);
+  const int wrong_coarse = coarse.leaks + coarse.extra, wrong_fine = fine.leaks + fine.extra;
+  EXPECT_GT(wrong_coarse, 100) << "expected blocky edges at 64²";
+  EXPECT_LT(5 * wrong_fine, wrong_coarse);
+  EXPECT_GT(coarse.compared, 20000);
+}
+
 // Several probes per sample estimate the shadowed part of the sample's footprint: partial
 // values appear only next to shadow edges, and full or empty ones agree with the exact state.
 TEST(RasterShadows, RaysWithSeveralSamplesGivePartialShadowOnlyAtEdges) {

@@ -9,36 +9,16 @@
 #include <fstream>
 #include <unistd.h>
 
+#include "cli_run.h"
 #include "io/png.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out, err;
-};
+using Result = hedra::testing::CliResult;
 
-Result run(const std::string& args) {
-  static int calls = 0;
-  const fs::path err_file = fs::temp_directory_path() /
-                            ("hedra_render_stderr_" + std::to_string(::getpid()) + "_" +
-                             std::to_string(++calls) + ".txt");
-  const std::string command = std::string(HEDRA_BIN) + " " + args + " 2>" + err_file.string();
-  std::FILE* pipe = ::popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  while (size_t n = std::fread(buf.data(), 1, buf.size(), pipe)) out.append(buf.data(), n);
-  const int status = ::pclose(pipe);
-  std::string err;
-  if (std::FILE* f = std::fopen(err_file.c_str(), "r")) {
-    while (size_t n = std::fread(buf.data(), 1, buf.size(), f)) err.append(buf.data(), n);
-    std::fclose(f);
-  }
-  fs::remove(err_file);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, err};
-}
+Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
 fs::path temp_dir() {
   const fs::path d = fs::temp_directory_path() / ("hedra_render_cli_" + std::to_string(::getpid()));
@@ -89,16 +69,30 @@ TEST(RenderCli, BadSceneNamesFileAndPlace) {
   fs::remove_all(dir);
 }
 
-TEST(RenderCli, LinesOverlayOrAClearMessage) {
+// --lines draws the Roberts visible lines on top: the picture gains dark line pixels and
+// changes nowhere else by more than the lines' width.
+TEST(RenderCli, LinesOverlayDrawsTheVisibleEdges) {
   const fs::path dir = temp_dir();
-  const fs::path out = dir / "lines.png";
-  const Result r = run("render " + kExample + " -o " + out.string() + " --width 96 --height 72 --lines");
-  if (r.code == 0) {
-    EXPECT_TRUE(fs::exists(out));
-  } else {
-    EXPECT_EQ(r.code, 3);
-    EXPECT_NE(r.err.find("roberts"), std::string::npos) << r.err;
-  }
+  const fs::path plain = dir / "plain.png", lines = dir / "lines.png";
+  const std::string common = " --width 160 --height 120 --shadows none --aa 1";
+  ASSERT_EQ(run("render " + kExample + " -o " + plain.string() + common).code, 0);
+  const Result r = run("render " + kExample + " -o " + lines.string() + common + " --lines");
+  ASSERT_EQ(r.code, 0) << r.err;
+  int w0 = 0, h0 = 0, w1 = 0, h1 = 0;
+  const std::vector<uint8_t> a = hedra::io::read_png(plain.string(), &w0, &h0);
+  const std::vector<uint8_t> b = hedra::io::read_png(lines.string(), &w1, &h1);
+  ASSERT_EQ(w0, w1);
+  ASSERT_EQ(h0, h1);
+  auto dark = [](const std::vector<uint8_t>& img) {
+    size_t n = 0;
+    for (size_t i = 0; i + 2 < img.size(); i += 3) n += img[i] < 40 && img[i + 1] < 40 && img[i + 2] < 40;
+    return n;
+  };
+  size_t changed = 0;
+  for (size_t i = 0; i + 2 < a.size(); i += 3) changed += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2];
+  EXPECT_GT(dark(b), dark(a) + 200) << "the overlay adds dark line pixels";
+  EXPECT_GT(changed, 200u);
+  EXPECT_LT(changed, a.size() / 3 / 3) << "only the lines change, not the shading";
   fs::remove_all(dir);
 }
 

@@ -6,6 +6,8 @@
 #include <fstream>
 #include <random>
 
+#include <unistd.h>
+
 #include "io/text_reader.h"
 #include "kernel/boolean.h"
 #include "kernel/error.h"
@@ -103,6 +105,34 @@ TEST(SceneJson, EveryBodyTypeFromTheExample) {
   EXPECT_EQ(s.lights[0].type, Light::Type::Sun);
   EXPECT_GT(-s.lights[0].direction.z(), 0.5);  // the sun is high in June
   EXPECT_EQ(s.camera.width, 1024);
+}
+
+// The body types the example does not use: a mesh file (its path relative to the scene file,
+// not to the working directory), unite and intersect of hidden operands.
+TEST(SceneJson, MeshUniteAndIntersectBodies) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("hedra_scene_json_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "parts");
+  std::ofstream(dir / "parts" / "cube.off")
+      << "OFF\n8 6 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
+         "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  std::ofstream(dir / "parts" / "scene.json") << R"({
+    "bodies": [
+      {"name": "part", "mesh": "cube.off", "transform": [{"translate": [10, 0, 0]}]},
+      {"name": "a", "box": {"min": [0, 0, 0], "max": [2, 2, 2]}, "hidden": true},
+      {"name": "b", "box": {"min": [1, 1, 1], "max": [3, 3, 3]}, "hidden": true},
+      {"name": "u", "unite": ["a", "b"]},
+      {"name": "i", "intersect": ["a", "b"]}
+    ]})";
+  const Scene s = io::read_scene((dir / "parts" / "scene.json").string());
+  EXPECT_EQ(s.get("part").body.volume(), 8);
+  EXPECT_EQ(s.get("part").body.bbox().min(), Vec3(10, 0, 0));
+  EXPECT_EQ(s.get("u").body.volume(), 8 + 8 - 1);
+  EXPECT_EQ(s.get("u").body.face_count(), 12);
+  EXPECT_EQ(s.get("i").body.volume(), 1);
+  EXPECT_EQ(s.get("i").body.face_count(), 6);
+  EXPECT_EQ(s.visible_bodies().size(), 3u);
+  fs::remove_all(dir);
 }
 
 TEST(SceneJson, WriteBackGivesAnEquivalentScene) {

@@ -1,6 +1,8 @@
 // `hedra shadows` and the demo's shadows end to end: JSON fields, SVG, sun studies, errors and
 // exit codes.
 #include <gtest/gtest.h>
+
+#include "cli_run.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -17,11 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct Result {
-  int code;
-  std::string out;
-  std::string err;
-};
+using Result = hedra::testing::CliResult;
 
 fs::path temp(const std::string& name) {
   const fs::path dir =
@@ -30,22 +28,7 @@ fs::path temp(const std::string& name) {
   return dir / name;
 }
 
-Result run(const std::string& args, const fs::path& cwd = fs::path()) {
-  static int calls = 0;
-  const fs::path err_file = temp("stderr_" + std::to_string(++calls) + ".txt");
-  const std::string command = (cwd.empty() ? "" : "cd " + cwd.string() + " && ") +
-                              std::string(HEDRA_BIN) + " " + args + " 2>" + err_file.string();
-  std::FILE* pipe = ::popen(command.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) out.append(buf, n);
-  const int status = ::pclose(pipe);
-  std::ifstream e(err_file);
-  std::stringstream ss;
-  ss << e.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, ss.str()};
-}
+Result run(const std::string& args, const fs::path& cwd = fs::path()) { return hedra::testing::run_hedra(args, cwd); }
 
 std::string write(const std::string& name, const std::string& text) {
   const fs::path p = temp(name);
@@ -111,6 +94,56 @@ TEST(ShadowsCli, ReportsFacesPolygonsAndCounts) {
   for (const json& c : j["counts"])
     if (c["body"] == "ground" && c["face"] == 5 && c["count"] == 2) umbra = c["area"].get<double>();
   EXPECT_GT(umbra, 1 - 1e-12);
+}
+
+const char* kCubeOff = "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                       "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+
+// A mesh file gets a directional light travelling along (−1, −1.5, −3): a lone unit cube has
+// its −x, −y and −z faces in self-shadow and casts nothing on itself.
+TEST(ShadowsCli, AcceptsAMeshFile) {
+  const std::string off = write("cube.off", kCubeOff);
+  const std::string out = temp("cube.json").string();
+  const Result r = run("shadows " + off + " --json " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json j = read_json(out);
+  ASSERT_EQ(j["lights"].size(), 1u);
+  int self = 0;
+  double shadow = 0;
+  for (const json& f : j["lights"][0]["faces"]) {
+    self += f["self_shadowed"].get<bool>();
+    shadow += f["shadow_area"].get<double>();
+  }
+  EXPECT_EQ(self, 3);
+  EXPECT_DOUBLE_EQ(shadow, 3.0);
+}
+
+// A plate with a square hole above the ground, light straight down: the ground's shadow is one
+// polygon with one hole, and the JSON says which ring is the hole.
+TEST(ShadowsCli, PolygonsWithHolesNameTheirHoleRings) {
+  const std::string scene = write("holed.json", R"({
+    "bodies": [
+      {"name": "ground", "box": {"min": [-5, -5, -1], "max": [5, 5, 0]}},
+      {"name": "plate", "prism": {"polygon": [[-2,-2],[2,-2],[2,2],[-2,2]],
+                                  "holes": [[[-1,-1],[1,-1],[1,1],[-1,1]]], "z": [1, 1.5]}}
+    ],
+    "lights": [{"type": "directional", "direction": [0, 0, -1]}]
+  })");
+  const std::string out = temp("holed_out.json").string();
+  const Result r = run("shadows " + scene + " --json " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json j = read_json(out);
+  bool found = false;
+  for (const json& f : j["lights"][0]["faces"]) {
+    if (f["body"] != "ground" || f["self_shadowed"].get<bool>() || f["grazing"].get<bool>()) continue;
+    if (f["shadow_area"].get<double>() == 0) continue;
+    found = true;
+    EXPECT_NEAR(f["shadow_area"].get<double>(), 12.0, 1e-12);
+    ASSERT_EQ(f["polygons"].size(), 2u);
+    EXPECT_EQ(f["holes"], json::array({1}));
+    EXPECT_EQ(f["polygons"][1].size(), 4u);
+  }
+  EXPECT_TRUE(found);
 }
 
 TEST(ShadowsCli, WritesTheSvgOverlay) {
