@@ -387,7 +387,8 @@ TEST(Shadows, ShadowOnAFaceWithAHole) {
   s.add("plate", plate);
   s.add("wall", box({-1, 4, 0}, {5, 5, 10}));
   s.lights.push_back(Light::directional({0, -1, -1}));
-  const FaceShadow& all = compute_shadows(s).face(0, 1, top);
+  const ShadowResult walled = compute_shadows(s);  // keep the result alive: face() returns a reference
+  const FaceShadow& all = walled.face(0, 1, top);
   EXPECT_NEAR(all.shadow_area, 12, 1e-13);
   ASSERT_EQ(all.polygons.size(), 1u);
   EXPECT_EQ(all.polygons[0].holes.size(), 1u);
