@@ -1,17 +1,28 @@
 #!/usr/bin/env bash
 # Runs every benchmark binary of the bench build with JSON output, then writes
-# docs/benchmarks.md and the charts (scripts/bench_report.py).
+# docs/benchmarks.md and the charts (scripts/bench_report.py) and the figure of
+# docs/rendering.md (scripts/render_figures.py). HEDRA_BENCH_QUICK=1: smaller inputs, a shorter
+# minimum time per benchmark and 3 repetitions instead of 5 (make bench-quick, < 5 minutes).
 set -euo pipefail
 build=${1:-build-bench}
 out="$build/results"
 mkdir -p "$out"
+reps=5
+flags=()
+if [ -n "${HEDRA_BENCH_QUICK:-}" ]; then
+  reps=3
+  flags+=(--benchmark_min_time=0.05)
+fi
+start=$SECONDS
 for bin in "$build"/*_bench; do
   [ -x "$bin" ] || continue
   name=$(basename "$bin")
+  t0=$SECONDS
   echo "== $name"
-  reps=5
-  [ -n "${HEDRA_BENCH_QUICK:-}" ] && reps=3
   "$bin" --benchmark_format=console --benchmark_out="$out/$name.json" --benchmark_out_format=json \
-    --benchmark_repetitions=$reps
+    --benchmark_repetitions=$reps "${flags[@]}"
+  echo "== $name: $((SECONDS - t0)) s"
 done
+echo "== all benchmarks: $((SECONDS - start)) s"
 /usr/bin/python3 scripts/bench_report.py "$out" docs
+if [ -x "$build/hedra" ]; then /usr/bin/python3 scripts/render_figures.py "$build/hedra" docs; fi

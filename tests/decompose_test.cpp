@@ -291,6 +291,35 @@ TEST(DecomposePerturbed, BothMethodsTerminateAndFailCleanly) {
   EXPECT_EQ(exact_failures, 2);
 }
 
+// Triangle soups perturbed at the rounding level (1e-15 of the size), the benchmark's smallest
+// δ with its seed and order: the exact method finishes on all eight shapes with volumes right to
+// 1e-12, but its pieces are output in double coordinates, and on one shape (comb 16) a piece's
+// rounded vertices are no longer exactly convex (docs/stability.md).
+TEST(DecomposePerturbed, RoundingLevelSoupsGiveOneNotExactlyConvexPiece) {
+  std::mt19937 random(1234);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int not_convex = 0, shapes = 0;
+  for (const suite::Shape& shape : suite::shapes(false)) {
+    if (shape.name == "cross" || shape.name.rfind("plate", 0) == 0) continue;
+    const Body source = suite::rotated(shape.body);
+    std::vector<Vec3> v = source.vertices();
+    for (Vec3& p : v) p += 1e-15 * source.scale() * Vec3(u(random), u(random), u(random));
+    std::vector<Face> faces;
+    for (const Triangle& t : source.triangles()) faces.push_back(Face{t.v[0], t.v[1], t.v[2]});
+    BodyOptions o;
+    o.planarity_tolerance = 1;
+    const Body soup(std::move(v), std::move(faces), o);
+    const Decomposition d = decompose(soup);
+    ++shapes;
+    bool all_convex = true;
+    for (const Body& piece : d.pieces) all_convex = all_convex && convexity(piece).convex;
+    not_convex += !all_convex;
+    EXPECT_NEAR(total_volume(d.pieces), soup.volume(), 1e-12 * soup.volume()) << shape.name;
+  }
+  EXPECT_EQ(shapes, 8);
+  EXPECT_EQ(not_convex, 1);
+}
+
 TEST(DecomposeCgal, CoversTheBodyWithAtLeastAsManyPieces) {
   for (const suite::Shape& shape : suite::shapes(false)) {
     if (shape.name.rfind("plate", 0) == 0) continue;  // slow in CGAL; the benchmark covers it
