@@ -205,6 +205,23 @@ TEST(BodyErrors, NamedMessages) {
     bad.emplace_back(5, 5, 5);
     expect_error(bad, f, "vertex 8 is not used by any face");
   }
+  {
+    // A cube plus a detached two-sided triangle: a face repeated with the opposite orientation.
+    auto vv = v;
+    vv.insert(vv.end(), {{5, 5, 5}, {6, 5, 5}, {5, 6, 5}});
+    auto ff = f;
+    ff.push_back(Face{8, 9, 10});
+    ff.push_back(Face{8, 10, 9});
+    expect_error(vv, ff, "faces 6 and 7 have the same vertices (a repeated face)");
+  }
+  {
+    // A square covered twice (two triangles on each side, different diagonals): closed,
+    // oriented, planar faces, but flat.
+    std::vector<Vec3> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const std::string message =
+        error_of(square, {Face{0, 1, 2}, Face{0, 2, 3}, Face{1, 0, 3}, Face{1, 3, 2}});
+    EXPECT_NE(message.find("volume"), std::string::npos) << message;
+  }
 }
 
 TEST(BodyErrors, SelfCrossingFace) {
