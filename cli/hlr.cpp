@@ -8,7 +8,6 @@
 
 #include "cli/info.h"
 #include "io/atomic_file.h"
-#include "io/scene_json.h"
 #include "kernel/error.h"
 #include "kernel/roberts.h"
 #include "render/svg.h"

@@ -7,7 +7,6 @@
 
 #include "cli/info.h"
 #include "io/png.h"
-#include "io/scene_json.h"
 #include "kernel/error.h"
 #include "render/raster.h"
 

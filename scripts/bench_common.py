@@ -5,7 +5,10 @@ page when a report script runs on its own.
 import os
 import platform
 import re
+import statistics
 import sys
+
+UNIT_MS = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
 
 
 def machine():
@@ -41,6 +44,32 @@ def collect(data):
         base, args = parse(b.get("run_name", b["name"]))
         out.setdefault((base, tuple(sorted(args.items()))), []).append(b)
     return out
+
+
+def by_run_name(data):
+    """run name -> list of repetitions (aggregates dropped), for benchmarks named without args."""
+    out = {}
+    for b in data["benchmarks"]:
+        if b.get("run_type") == "aggregate":
+            continue
+        out.setdefault(b.get("run_name", b["name"]), []).append(b)
+    return out
+
+
+def entry_ms(entry):
+    """One repetition's real time in ms."""
+    return entry["real_time"] * UNIT_MS[entry["time_unit"]]
+
+
+def times_ms(entries):
+    """(median, min, max) of the repetitions' real times, in ms."""
+    ts = [entry_ms(e) for e in entries]
+    return statistics.median(ts), min(ts), max(ts)
+
+
+def fmt_times(t):
+    """'median [min–max]' of times_ms()."""
+    return f"{t[0]:.3g} [{t[1]:.3g}–{t[2]:.3g}]"
 
 
 def standalone(section_fn, bench_name, heading):

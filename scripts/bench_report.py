@@ -10,13 +10,12 @@ import datetime
 import json
 import math
 import os
-import statistics
 import subprocess
 import sys
 
 import matplotlib
 
-from bench_common import machine
+from bench_common import by_run_name as runs, fmt_times as fmt_ms, machine, times_ms as ms
 from clip_report import clipping
 from hlr_report import hidden_lines
 from lod_report import lod
@@ -33,26 +32,6 @@ def load(results, name):
         return None
     with open(path) as f:
         return json.load(f)
-
-
-def runs(data):
-    """name -> list of per-repetition entries (aggregates dropped)."""
-    out = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate":
-            continue
-        out.setdefault(b["run_name"], []).append(b)
-    return out
-
-
-def ms(entries):
-    times = [e["real_time"] * {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}[e["time_unit"]] for e in entries]
-    return statistics.median(times), min(times), max(times)
-
-
-def fmt_ms(t):
-    med, lo, hi = t
-    return f"{med:.3g} [{lo:.3g}–{hi:.3g}]"
 
 
 def geomean(xs):

@@ -10,11 +10,10 @@ builds the whole page from a list of sections (scripts/bench_report.py).
 """
 import json
 import os
-import statistics
 
 import matplotlib
 
-from bench_common import collect, machine, standalone
+from bench_common import collect, fmt_times, machine, standalone, times_ms
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -26,15 +25,12 @@ ACCURACY_TARGET = 1e-9
 
 
 def ms(entries):
-    unit = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
-    return statistics.median(e["real_time"] * unit[e["time_unit"]] for e in entries)
+    return times_ms(entries)[0]
 
 
 def ms_range(entries):
     """'median [min–max]' over the repetitions, in ms."""
-    unit = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
-    ts = [e["real_time"] * unit[e["time_unit"]] for e in entries]
-    return f"{statistics.median(ts):.3g} [{min(ts):.3g}–{max(ts):.3g}]"
+    return fmt_times(times_ms(entries))
 
 
 def get(runs, base, **args):

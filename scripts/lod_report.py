@@ -7,33 +7,13 @@ it is empty when RESULTS_DIR/lod_bench.json is missing.
 import json
 import math
 import os
-import statistics
 
 import matplotlib
 
+from bench_common import by_run_name as collect, fmt_times as fmt, times_ms as times
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-
-UNIT_MS = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
-
-
-def collect(data):
-    out = {}
-    for b in data["benchmarks"]:
-        if b.get("run_type") == "aggregate":
-            continue
-        out.setdefault(b.get("run_name", b["name"]), []).append(b)
-    return out
-
-
-def times(entries):
-    ts = [e["real_time"] * UNIT_MS[e["time_unit"]] for e in entries]
-    return statistics.median(ts), min(ts), max(ts)
-
-
-def fmt(t):
-    return f"{t[0]:.3g} [{t[1]:.3g}–{t[2]:.3g}]"
-
 
 def lod(results, docs, quick):
     path = os.path.join(results, "lod_bench.json")

@@ -14,7 +14,7 @@ import statistics
 
 import matplotlib
 
-from bench_common import collect, machine, standalone
+from bench_common import collect, machine, standalone, times_ms
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -26,13 +26,7 @@ FLOOR = 1e-6     # errors of 0 are drawn here on the log scale
 
 
 def ms(entries):
-    scale = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
-    return statistics.median(e["real_time"] * scale[e["time_unit"]] for e in entries)
-
-
-def ms_all(entries):
-    scale = {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}
-    return [e["real_time"] * scale[e["time_unit"]] for e in entries]
+    return times_ms(entries)[0]
 
 
 def median(entries, key):
@@ -50,7 +44,7 @@ def rows_of(runs):
         rows.append({
             "scene": a["scene"], "method": int(e["method"]), "label": e.get("label", ""),
             "resolution": int(e["resolution"]), "bias": e["bias"], "probes": int(e["probes"]),
-            "ms": ms(entries), "ms_min": min(ms_all(entries)), "ms_max": max(ms_all(entries)),
+            "ms": ms(entries), "ms_min": times_ms(entries)[1], "ms_max": times_ms(entries)[2],
             "shadows_ms": median(entries, "shadows_ms"),
             "raster_ms": median(entries, "raster_ms"), "setup_ms": median(entries, "setup_ms"),
             "pixel_error": e.get("pixel_error"), "area_error": e.get("area_error"),

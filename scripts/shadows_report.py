@@ -10,11 +10,11 @@ page from a list of sections.
 """
 import json
 import os
-import statistics
 
 import matplotlib
 
 from bench_common import collect, machine, standalone
+from bench_common import fmt_times as fmt_ms, times_ms as med_ms
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -22,20 +22,6 @@ import matplotlib.pyplot as plt  # noqa: E402
 TARGET_MS = 20.0      # N = 40 (design.md)
 TARGET_ERROR = 1e-9   # ground fraction against the CGAL exact union
 FLOOR = 1e-17         # errors of 0 are drawn here on the log scale
-
-
-def to_ms(entry):
-    return entry["real_time"] * {"ms": 1, "us": 1e-3, "ns": 1e-6, "s": 1e3}[entry["time_unit"]]
-
-
-def med_ms(entries):
-    times = [to_ms(e) for e in entries]
-    return statistics.median(times), min(times), max(times)
-
-
-def fmt_ms(t):
-    med, lo, hi = t
-    return f"{med:.3g} [{lo:.3g}–{hi:.3g}]"
 
 
 def fmt_err(e):
