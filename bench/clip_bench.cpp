@@ -16,11 +16,12 @@
 #include <cstring>
 #include <random>
 
-#include "kernel/batch_clip.h"
-#include "kernel/cyrus_beck.h"
-#include "kernel/midpoint_clip.h"
-#include "kernel/primitives.h"
-#include "tests/clip_fixtures.h"
+#include "hedra/baselines/cyrus_beck_double.h"
+#include "hedra/clip/batch_clip.h"
+#include "hedra/clip/cyrus_beck.h"
+#include "hedra/baselines/midpoint_clip.h"
+#include "hedra/core/primitives.h"
+#include "testing/clip_fixtures.h"
 
 namespace {
 

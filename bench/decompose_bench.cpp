@@ -11,11 +11,12 @@
 #include <random>
 #include <vector>
 
-#include "../tests/decomposition_suite.h"
-#include "kernel/convexity.h"
-#include "kernel/decompose.h"
+#include "testing/decomposition_suite.h"
+#include "hedra/baselines/decompose_baselines.h"
+#include "hedra/mesh/convexity.h"
+#include "hedra/decompose/decompose.h"
 #ifdef HEDRA_HAVE_TETGEN
-#include "kernel/tetgen_decompose.h"
+#include "hedra/tetgen/tetgen_decompose.h"
 #endif
 
 namespace hedra {

@@ -24,11 +24,11 @@
 #include <random>
 #include <string>
 
-#include "kernel/primitives.h"
-#include "kernel/roberts.h"
-#include "render/svg.h"
-#include "tests/hlr_reference.h"
-#include "tests/zbuffer_lines.h"
+#include "hedra/core/primitives.h"
+#include "hedra/visibility/roberts.h"
+#include "hedra/render/svg.h"
+#include "testing/hlr_reference.h"
+#include "testing/zbuffer_lines.h"
 
 #if HEDRA_HAVE_OCCT
 #include <BRepBuilderAPI_MakeFace.hxx>

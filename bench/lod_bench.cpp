@@ -16,9 +16,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "kernel/lod.h"
-#include "kernel/primitives.h"
-#include "kernel/roberts.h"
+#include "hedra/scene/lod.h"
+#include "hedra/core/primitives.h"
+#include "hedra/visibility/roberts.h"
 
 namespace {
 

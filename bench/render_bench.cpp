@@ -18,10 +18,10 @@
 #include <mutex>
 #include <random>
 
-#include "cli/demo.h"
-#include "kernel/primitives.h"
-#include "kernel/shadows.h"
-#include "render/raster.h"
+#include "hedra/scene/demo.h"
+#include "hedra/core/primitives.h"
+#include "hedra/visibility/shadows.h"
+#include "hedra/render/raster.h"
 
 namespace {
 
@@ -58,7 +58,7 @@ enum SceneId { kCity10 = 0, kCity40 = 1, kDemo = 2 };
 
 const Scene& scene_of(int id) {
   static const Scene scenes[3] = {city(10), city(40), [] {
-                                    Scene s = cli::demo_scene();
+                                    Scene s = demo_scene();
                                     return s;
                                   }()};
   return scenes[id];

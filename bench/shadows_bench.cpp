@@ -21,9 +21,9 @@
 #include <map>
 #include <random>
 
-#include "kernel/polygon_union.h"
-#include "kernel/primitives.h"
-#include "kernel/shadows.h"
+#include "hedra/visibility/polygon_union.h"
+#include "hedra/core/primitives.h"
+#include "hedra/visibility/shadows.h"
 
 namespace {
 

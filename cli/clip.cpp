@@ -6,16 +6,16 @@
 #include <vector>
 
 #include "cli/info.h"
-#include "io/atomic_file.h"
-#include "io/mesh_io.h"
-#include "io/text_reader.h"
-#include "kernel/batch_clip.h"
-#include "kernel/convexity.h"
-#include "kernel/decompose.h"
-#include "kernel/cyrus_beck.h"
-#include "kernel/error.h"
-#include "kernel/midpoint_clip.h"
-#include "kernel/tolerance.h"
+#include "hedra/io/atomic_file.h"
+#include "hedra/io/mesh_io.h"
+#include "hedra/io/text_reader.h"
+#include "hedra/clip/batch_clip.h"
+#include "hedra/mesh/convexity.h"
+#include "hedra/decompose/decompose.h"
+#include "hedra/clip/cyrus_beck.h"
+#include "hedra/core/error.h"
+#include "hedra/baselines/midpoint_clip.h"
+#include "hedra/core/tolerance.h"
 
 namespace hedra::cli {
 namespace {

@@ -7,12 +7,13 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/info.h"
-#include "io/mesh_io.h"
-#include "kernel/convexity.h"
-#include "kernel/decompose.h"
-#include "kernel/error.h"
+#include "hedra/baselines/decompose_baselines.h"
+#include "hedra/io/mesh_io.h"
+#include "hedra/mesh/convexity.h"
+#include "hedra/decompose/decompose.h"
+#include "hedra/core/error.h"
 #ifdef HEDRA_HAVE_TETGEN
-#include "kernel/tetgen_decompose.h"
+#include "hedra/tetgen/tetgen_decompose.h"
 #endif
 
 namespace hedra::cli {

@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/info.h"
-#include "io/atomic_file.h"
-#include "kernel/error.h"
-#include "kernel/roberts.h"
-#include "render/svg.h"
+#include "hedra/io/atomic_file.h"
+#include "hedra/core/error.h"
+#include "hedra/visibility/roberts.h"
+#include "hedra/render/svg.h"
 
 namespace hedra::cli {
 namespace {

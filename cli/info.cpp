@@ -4,9 +4,9 @@
 
 #include <filesystem>
 
-#include "io/mesh_io.h"
-#include "io/scene_json.h"
-#include "kernel/convexity.h"
+#include "hedra/io/mesh_io.h"
+#include "hedra/io/scene_json.h"
+#include "hedra/mesh/convexity.h"
 
 namespace hedra::cli {
 namespace {

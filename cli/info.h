@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "kernel/body.h"
-#include "kernel/scene.h"
+#include "hedra/core/body.h"
+#include "hedra/scene/scene.h"
 
 namespace hedra::cli {
 

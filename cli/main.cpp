@@ -6,15 +6,16 @@
 
 #include "cli/clip.h"
 #include "cli/decompose.h"
-#include "cli/demo.h"
+#include "hedra/scene/demo.h"
 #include "cli/hlr.h"
 #include "cli/info.h"
 #include "cli/render.h"
 #include "cli/shadows.h"
-#include "io/mesh_io.h"
-#include "io/scene_json.h"
-#include "kernel/decompose.h"
-#include "kernel/error.h"
+#include "hedra/io/mesh_io.h"
+#include "hedra/io/scene_json.h"
+#include "hedra/decompose/decompose.h"
+#include "hedra/core/error.h"
+#include "hedra/version.h"
 
 namespace {
 
@@ -25,6 +26,7 @@ constexpr int kExitInvalidInput = 3;
 
 int main(int argc, char** argv) {
   CLI::App app{"hedra: exact solid modeling for polyhedral scenes"};
+  app.set_version_flag("--version", std::string("hedra ") + hedra::kVersion);
   app.require_subcommand(1);
 
   std::string info_file;
@@ -118,7 +120,7 @@ int main(int argc, char** argv) {
       hedra::cli::run_decompose(dec, std::cout);
     } else if (*demo) {
       std::cout << "hedra demo: a ground slab with an L-shaped block, a box and a pyramid\n\n";
-      const hedra::Scene scene = hedra::cli::demo_scene();
+      const hedra::Scene scene = hedra::demo_scene();
       std::vector<hedra::cli::NamedBody> bodies;
       for (const hedra::SceneBody* b : scene.visible_bodies())
         bodies.push_back({b->name, b->body, b->lod_note});

@@ -6,9 +6,9 @@
 #include <cstdio>
 
 #include "cli/info.h"
-#include "io/png.h"
-#include "kernel/error.h"
-#include "render/raster.h"
+#include "hedra/io/png.h"
+#include "hedra/core/error.h"
+#include "hedra/render/raster.h"
 
 namespace hedra::cli {
 namespace {

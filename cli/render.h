@@ -4,7 +4,7 @@
 #include <ostream>
 #include <string>
 
-#include "kernel/scene.h"
+#include "hedra/scene/scene.h"
 
 namespace CLI {
 class App;

@@ -9,12 +9,12 @@
 #include <optional>
 
 #include "cli/info.h"
-#include "io/atomic_file.h"
-#include "kernel/error.h"
-#include "kernel/roberts.h"
-#include "kernel/shadows.h"
-#include "kernel/sun.h"
-#include "render/svg.h"
+#include "hedra/io/atomic_file.h"
+#include "hedra/core/error.h"
+#include "hedra/visibility/roberts.h"
+#include "hedra/visibility/shadows.h"
+#include "hedra/scene/sun.h"
+#include "hedra/render/svg.h"
 
 namespace hedra::cli {
 namespace {

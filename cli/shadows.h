@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "kernel/scene.h"
+#include "hedra/scene/scene.h"
 
 namespace CLI {
 class App;

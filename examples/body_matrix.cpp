@@ -1,8 +1,8 @@
 // Build a body and print its body matrix (the README's example).
 #include <iostream>
 
-#include "kernel/convexity.h"
-#include "kernel/primitives.h"
+#include "hedra/mesh/convexity.h"
+#include "hedra/core/primitives.h"
 
 int main() {
   using namespace hedra;

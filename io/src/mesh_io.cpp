@@ -1,0 +1,86 @@
+#include "hedra/io/mesh_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+
+#include "hedra/io/atomic_file.h"
+#include "obj.h"
+#include "off.h"
+#include "ply.h"
+#include "stl.h"
+#include "hedra/io/text_reader.h"
+#include "hedra/core/error.h"
+
+namespace hedra::io {
+
+MeshFormat format_of(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".off") return MeshFormat::Off;
+  if (ext == ".obj") return MeshFormat::Obj;
+  if (ext == ".stl") return MeshFormat::Stl;
+  if (ext == ".ply") return MeshFormat::Ply;
+  throw InvalidInput(path + ": unknown mesh format '" + ext + "' (expected .off, .obj, .stl or .ply)");
+}
+
+PolygonSoup read_soup(const std::string& path) {
+  const MeshFormat format = format_of(path);
+  const std::string bytes = read_file(path);
+  if (bytes.empty()) throw InvalidInput(path + ": empty file");
+  switch (format) {
+    case MeshFormat::Off: return parse_off(path, bytes);
+    case MeshFormat::Obj: return parse_obj(path, bytes);
+    case MeshFormat::Stl: return parse_stl(path, bytes);
+    case MeshFormat::Ply: return parse_ply(path, bytes);
+  }
+  throw InvalidInput(path + ": unknown format");
+}
+
+std::vector<Body> read_bodies(const std::string& path, const ReadOptions& options) {
+  PolygonSoup soup = read_soup(path);
+  try {
+    return bodies_from_soup(soup, options.merge);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(path + ": " + e.what());
+  }
+}
+
+PolygonSoup soup_of(const std::vector<Body>& bodies, bool triangles_only) {
+  PolygonSoup soup;
+  for (const Body& body : bodies) {
+    const int base = static_cast<int>(soup.vertices.size());
+    soup.vertices.insert(soup.vertices.end(), body.vertices().begin(), body.vertices().end());
+    std::vector<char> needs_triangles(body.face_count(), triangles_only);
+    for (int f = 0; f < body.face_count(); ++f) {
+      if (body.faces()[f].loops.size() > 1) needs_triangles[f] = 1;
+      if (needs_triangles[f]) continue;
+      std::vector<int> poly = body.faces()[f].loops[0];
+      for (int& v : poly) v += base;
+      soup.polygons.push_back(std::move(poly));
+    }
+    for (const Triangle& t : body.triangles())
+      if (needs_triangles[t.face])
+        soup.polygons.push_back({t.v[0] + base, t.v[1] + base, t.v[2] + base});
+  }
+  return soup;
+}
+
+void write_bodies(const std::vector<Body>& bodies, const std::string& path,
+                  const WriteOptions& options) {
+  const MeshFormat format = format_of(path);
+  std::string bytes;
+  switch (format) {
+    case MeshFormat::Off: bytes = format_off(soup_of(bodies, false)); break;
+    case MeshFormat::Obj: bytes = format_obj(soup_of(bodies, false)); break;
+    case MeshFormat::Ply: bytes = format_ply(soup_of(bodies, false)); break;
+    case MeshFormat::Stl:
+      bytes = options.stl_ascii ? format_stl_ascii(soup_of(bodies, true))
+                                : format_stl_binary(soup_of(bodies, true));
+      break;
+  }
+  write_file_atomically(path, bytes);
+}
+
+}  // namespace hedra::io

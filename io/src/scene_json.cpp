@@ -1,0 +1,640 @@
+#include "hedra/io/scene_json.h"
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "hedra/io/atomic_file.h"
+#include "json_value.h"
+#include "hedra/io/mesh_io.h"
+#include "hedra/io/text_reader.h"
+#include "hedra/mesh/boolean.h"
+#include "hedra/core/error.h"
+#include "hedra/scene/lod.h"
+#include "hedra/core/primitives.h"
+
+namespace hedra::io {
+namespace {
+
+namespace fs = std::filesystem;
+using Kind = JsonValue::Kind;
+
+std::string join(std::initializer_list<const char*> words) {
+  std::string s;
+  for (const char* w : words) s += (s.empty() ? "" : ", ") + std::string(w);
+  return s;
+}
+
+class SceneReader {
+ public:
+  SceneReader(std::string path) : path_(std::move(path)) {}
+
+  Scene read(const JsonValue& root) {
+    if (root.kind != Kind::Object) fail(root, "a scene file holds a JSON object");
+    allow(root, {"version", "bodies", "camera", "lights", "image"});
+    if (const JsonValue* v = root.find("version"))
+      if (integer(*v, "'version'") != 1) fail(*v, "unsupported version (this reader knows 1)");
+    Scene scene;
+    if (const JsonValue* image = root.find("image")) read_image(*image, scene);
+    if (const JsonValue* camera = root.find("camera")) read_camera(*camera, scene);
+    try {
+      scene.camera.validate();
+    } catch (const InvalidInput& e) {
+      fail(root.find("camera") ? *root.find("camera") : root, e.what());
+    }
+    if (const JsonValue* lights = root.find("lights")) {
+      if (lights->kind != Kind::Array) fail(*lights, "'lights' must be an array");
+      for (const JsonValue& l : lights->items) scene.lights.push_back(read_light(l));
+    }
+    const JsonValue& bodies = member(root, "bodies");
+    if (bodies.kind != Kind::Array) fail(bodies, "'bodies' must be an array");
+    if (bodies.items.empty()) fail(bodies, "'bodies' is empty");
+    camera_ = &scene.camera;
+    view_height_ = std::nullopt;
+    bodies_json_ = &bodies;
+    for (const JsonValue& b : bodies.items) read_body(b, scene);
+    context_.clear();
+    return scene;
+  }
+
+ private:
+  // ---- errors and typed access -------------------------------------------------------------
+  [[noreturn]] void fail(const JsonValue& at, const std::string& message) const {
+    throw InvalidInput(path_ + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
+                       ": " + context_ + message);
+  }
+
+  void allow(const JsonValue& object, std::initializer_list<const char*> keys) const {
+    for (size_t i = 0; i < object.members.size(); ++i) {
+      const std::string& key = object.members[i].first;
+      bool known = false;
+      for (const char* k : keys) known = known || key == k;
+      if (!known) {
+        JsonValue at;
+        at.line = object.key_positions[i].first;
+        at.column = object.key_positions[i].second;
+        fail(at, "unknown key '" + key + "' (expected one of: " + join(keys) + ")");
+      }
+    }
+  }
+
+  const JsonValue& member(const JsonValue& object, const char* key) const {
+    if (object.kind != Kind::Object) fail(object, "expected an object");
+    const JsonValue* v = object.find(key);
+    if (!v) fail(object, std::string("missing '") + key + "'");
+    return *v;
+  }
+
+  double number(const JsonValue& v, const std::string& what) const {
+    if (v.kind != Kind::Number) fail(v, what + " must be a number, not " + v.kind_name());
+    return v.number;
+  }
+  double positive(const JsonValue& v, const std::string& what) const {
+    double x = number(v, what);
+    if (!(x > 0)) fail(v, what + " must be positive");
+    return x;
+  }
+  int integer(const JsonValue& v, const std::string& what) const {
+    double x = number(v, what);
+    if (x != std::floor(x) || std::abs(x) > 1e9) fail(v, what + " must be an integer");
+    return static_cast<int>(x);
+  }
+  std::string text(const JsonValue& v, const std::string& what) const {
+    if (v.kind != Kind::String) fail(v, what + " must be a string, not " + v.kind_name());
+    return v.string;
+  }
+  bool flag(const JsonValue& v, const std::string& what) const {
+    if (v.kind != Kind::Bool) fail(v, what + " must be true or false");
+    return v.boolean;
+  }
+  std::vector<double> numbers(const JsonValue& v, size_t n, const std::string& what) const {
+    if (v.kind != Kind::Array || v.items.size() != n)
+      fail(v, what + " must be an array of " + std::to_string(n) + " numbers");
+    std::vector<double> out;
+    for (const JsonValue& x : v.items) out.push_back(number(x, what));
+    return out;
+  }
+  Vec3 vec3(const JsonValue& v, const std::string& what) const {
+    auto x = numbers(v, 3, what);
+    return {x[0], x[1], x[2]};
+  }
+  Vec2 vec2(const JsonValue& v, const std::string& what) const {
+    auto x = numbers(v, 2, what);
+    return {x[0], x[1]};
+  }
+  Polygon2 polygon(const JsonValue& v, const std::string& what) const {
+    if (v.kind != Kind::Array) fail(v, what + " must be an array of [x, y] points");
+    if (v.items.size() < 3) fail(v, what + " needs at least 3 points");
+    Polygon2 p;
+    for (const JsonValue& q : v.items) p.push_back(vec2(q, what + " point"));
+    return p;
+  }
+  std::pair<double, double> range(const JsonValue& v, const std::string& what) const {
+    auto x = numbers(v, 2, what);
+    return {x[0], x[1]};
+  }
+
+  // ---- image, camera, lights, material -----------------------------------------------------
+  void read_image(const JsonValue& v, Scene& scene) const {
+    allow(v, {"width", "height", "background"});
+    if (const JsonValue* w = v.find("width")) scene.camera.width = integer(*w, "'width'");
+    if (const JsonValue* h = v.find("height")) scene.camera.height = integer(*h, "'height'");
+    if (const JsonValue* b = v.find("background")) scene.image.background = vec3(*b, "'background'");
+  }
+
+  void read_camera(const JsonValue& v, Scene& scene) const {
+    if (v.kind != Kind::Object) fail(v, "'camera' must be an object");
+    Camera& c = scene.camera;
+    const std::string projection = text(member(v, "projection"), "'projection'");
+    if (projection == "parallel") {
+      allow(v, {"projection", "direction", "up"});
+      c.projection = Camera::Projection::Parallel;
+      c.direction = vec3(member(v, "direction"), "'direction'");
+      c.up = v.find("up") ? vec3(*v.find("up"), "'up'") : Vec3(0, 1, 0);
+    } else if (projection == "perspective") {
+      allow(v, {"projection", "eye", "target", "up", "fov_deg"});
+      c.projection = Camera::Projection::Perspective;
+      c.eye = vec3(member(v, "eye"), "'eye'");
+      c.target = vec3(member(v, "target"), "'target'");
+      c.up = v.find("up") ? vec3(*v.find("up"), "'up'") : Vec3(0, 0, 1);
+      c.fov_deg = v.find("fov_deg") ? number(*v.find("fov_deg"), "'fov_deg'") : 45;
+    } else {
+      fail(member(v, "projection"), "'projection' must be \"parallel\" or \"perspective\"");
+    }
+  }
+
+  Light read_light(const JsonValue& v) const {
+    if (v.kind != Kind::Object) fail(v, "a light must be an object");
+    const std::string type = text(member(v, "type"), "light 'type'");
+    Light l;
+    auto common = [&] {
+      if (const JsonValue* i = v.find("intensity")) l.intensity = number(*i, "'intensity'");
+      if (const JsonValue* c = v.find("color")) l.color = vec3(*c, "'color'");
+    };
+    try {
+      if (type == "directional") {
+        allow(v, {"type", "direction", "intensity", "color"});
+        l.type = Light::Type::Directional;
+        l.direction = vec3(member(v, "direction"), "'direction'");
+      } else if (type == "point") {
+        allow(v, {"type", "position", "intensity", "color"});
+        l.type = Light::Type::Point;
+        l.position = vec3(member(v, "position"), "'position'");
+      } else if (type == "spot") {
+        allow(v, {"type", "position", "direction", "cone_deg", "falloff", "intensity", "color"});
+        l.type = Light::Type::Spot;
+        l.position = vec3(member(v, "position"), "'position'");
+        l.direction = vec3(member(v, "direction"), "'direction'");
+        l.cone_deg = number(member(v, "cone_deg"), "'cone_deg'");
+        if (const JsonValue* f = v.find("falloff")) l.falloff = number(*f, "'falloff'");
+      } else if (type == "sun") {
+        allow(v, {"type", "latitude", "longitude", "time", "intensity", "color"});
+        const double lat = number(member(v, "latitude"), "'latitude'");
+        const double lon = number(member(v, "longitude"), "'longitude'");
+        const UtcTime t = UtcTime::parse(text(member(v, "time"), "'time'"));
+        l = Light::sun(lat, lon, t);
+      } else {
+        fail(member(v, "type"), "light 'type' must be directional, point, spot or sun");
+      }
+      common();
+      l.validate();
+    } catch (const InvalidInput& e) {
+      if (std::string(e.what()).rfind(path_, 0) == 0) throw;
+      fail(v, e.what());
+    }
+    return l;
+  }
+
+  Material read_material(const JsonValue& v) const {
+    allow(v, {"color", "ka", "kd", "ks", "shininess"});
+    Material m;
+    if (const JsonValue* c = v.find("color")) m.color = vec3(*c, "'color'");
+    if (const JsonValue* x = v.find("ka")) m.ka = number(*x, "'ka'");
+    if (const JsonValue* x = v.find("kd")) m.kd = number(*x, "'kd'");
+    if (const JsonValue* x = v.find("ks")) m.ks = number(*x, "'ks'");
+    if (const JsonValue* x = v.find("shininess")) m.shininess = number(*x, "'shininess'");
+    try {
+      m.validate();
+    } catch (const InvalidInput& e) {
+      fail(v, e.what());
+    }
+    return m;
+  }
+
+  Transform read_transform(const JsonValue& v) const {
+    if (v.kind != Kind::Array) fail(v, "'transform' must be an array of steps");
+    Transform t;
+    for (const JsonValue& step : v.items) {
+      if (step.kind != Kind::Object || step.members.size() != 1)
+        fail(step, "a transform step is an object with one key: translate, rotate, scale or matrix");
+      const auto& [key, arg] = step.members[0];
+      if (key == "translate") {
+        t = t * Transform::translation(vec3(arg, "'translate'"));
+      } else if (key == "rotate") {
+        allow(arg, {"axis", "deg", "about"});
+        Vec3 about = arg.find("about") ? vec3(*arg.find("about"), "'about'") : Vec3::Zero();
+        Vec3 axis = vec3(member(arg, "axis"), "'axis'");
+        if (axis.norm() == 0) fail(member(arg, "axis"), "'axis' must not be zero");
+        t = t * Transform::rotation(axis, number(member(arg, "deg"), "'deg'"), about);
+      } else if (key == "scale") {
+        allow(arg, {"factors", "about"});
+        Vec3 about = arg.find("about") ? vec3(*arg.find("about"), "'about'") : Vec3::Zero();
+        const JsonValue& f = member(arg, "factors");
+        Vec3 k = f.kind == Kind::Number ? Vec3::Constant(f.number) : vec3(f, "'factors'");
+        if ((k.array() == 0).any()) fail(f, "scale factors must not be zero");
+        t = t * Transform::scaling(k, about);
+      } else if (key == "matrix") {
+        if (arg.kind != Kind::Array || arg.items.size() != 4)
+          fail(arg, "'matrix' must be 4 rows of 4 numbers (row vectors, as in the course)");
+        Mat4 m;
+        for (int r = 0; r < 4; ++r) {
+          auto row = numbers(arg.items[r], 4, "'matrix' row");
+          for (int c = 0; c < 4; ++c) m(r, c) = row[c];
+        }
+        if (std::abs(m.determinant()) == 0) fail(arg, "'matrix' is singular");
+        t = t * Transform(m);
+      } else {
+        fail(step, "unknown transform step '" + key + "' (expected translate, rotate, scale or matrix)");
+      }
+    }
+    return t;
+  }
+
+  // ---- bodies ------------------------------------------------------------------------------
+  static constexpr std::initializer_list<const char*> kShapes = {
+      "box", "prism", "pyramid", "frustum", "regular_prism", "cylinder", "cone", "sphere",
+      "mesh", "polyhedron", "unite", "subtract", "intersect"};
+
+  const JsonValue* shape_of(const JsonValue& b, std::string& shape) const {
+    const JsonValue* found = nullptr;
+    for (const char* s : kShapes)
+      if (const JsonValue* v = b.find(s)) {
+        if (found) fail(*v, "a body has exactly one shape, found '" + shape + "' and '" + s + "'");
+        found = v;
+        shape = s;
+      }
+    if (!found)
+      fail(b, "missing shape (one of: box, prism, pyramid, frustum, regular_prism, cylinder, cone, "
+              "sphere, mesh, polyhedron, unite, subtract, intersect)");
+    return found;
+  }
+
+  // Chordal tolerance from "tolerance" or "pixel_tolerance" for a curved primitive whose local
+  // bounding sphere is (centre, radius), placed by `t`.
+  double curved_tolerance(const JsonValue& v, const Vec3& centre, double radius, const Transform& t,
+                          std::string& note) {
+    const JsonValue* tol = v.find("tolerance");
+    const JsonValue* px = v.find("pixel_tolerance");
+    if (tol && px) fail(v, "give either 'tolerance' or 'pixel_tolerance', not both");
+    if (tol) {
+      double x = positive(*tol, "'tolerance'");
+      note = "chordal tolerance " + format_number(x) + " (given)";
+      return x;
+    }
+    if (!px) fail(v, "missing 'tolerance' or 'pixel_tolerance'");
+    const double pixels = positive(*px, "'pixel_tolerance'");
+    // The chordal error scales with the transform's largest stretch.
+    const double stretch = t.matrix().topLeftCorner<3, 3>().jacobiSvd().singularValues()(0);
+    const Vec3 world_centre = t.apply(centre);
+    const double world_radius = radius * stretch;
+    if (camera_->projection == Camera::Projection::Parallel && !view_height_)
+      view_height_ = parallel_view_height(*camera_, scene_extent());
+    try {
+      double world = chordal_tolerance_for_pixels(pixels, world_centre, world_radius, *camera_,
+                                                  view_height_.value_or(0), &note);
+      return world / stretch;
+    } catch (const InvalidInput& e) {
+      fail(*px, e.what());
+    }
+  }
+
+  static std::string format_number(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", x);
+    return buf;
+  }
+
+  // Analytic bounding box of every visible body (before tessellation), for fitting a parallel
+  // view: pixel tolerances then do not depend on the order of bodies in the file.
+  Eigen::AlignedBox3d scene_extent() {
+    std::map<std::string, Eigen::AlignedBox3d> boxes;
+    Eigen::AlignedBox3d all;
+    all.setEmpty();
+    const std::string saved = context_;
+    for (const JsonValue& b : bodies_json_->items) {
+      if (b.kind != Kind::Object) continue;
+      const JsonValue* n = b.find("name");
+      if (!n || n->kind != Kind::String) continue;
+      context_ = "body '" + n->string + "': ";
+      std::string shape;
+      const JsonValue& s = *shape_of(b, shape);
+      Eigen::AlignedBox3d box;
+      box.setEmpty();
+      auto take = [&](const std::string& name) {
+        auto it = boxes.find(name);
+        return it == boxes.end() ? Eigen::AlignedBox3d() : it->second;
+      };
+      if (shape == "box") {
+        box.extend(vec3(member(s, "min"), "'min'"));
+        box.extend(vec3(member(s, "max"), "'max'"));
+      } else if (shape == "prism" || shape == "pyramid" || shape == "frustum") {
+        const JsonValue& outline = member(s, shape == "prism" ? "polygon" : "base");
+        for (const Vec2& p : polygon(outline, "outline")) {
+          if (shape == "prism") {
+            auto [z0, z1] = range(member(s, "z"), "'z'");
+            box.extend(Vec3(p.x(), p.y(), z0));
+            box.extend(Vec3(p.x(), p.y(), z1));
+          } else {
+            const JsonValue& z = member(s, "z");
+            box.extend(Vec3(p.x(), p.y(), z.kind == Kind::Number ? z.number : range(z, "'z'").first));
+          }
+        }
+        if (shape != "prism") box.extend(vec3(member(s, "apex"), "'apex'"));
+      } else if (shape == "regular_prism" || shape == "cylinder" || shape == "cone") {
+        const double r = positive(member(s, "radius"), "'radius'");
+        auto [z0, z1] = range(member(s, "z"), "'z'");
+        box.extend(Vec3(-r, -r, z0));
+        box.extend(Vec3(r, r, z1));
+      } else if (shape == "sphere") {
+        const Vec3 c = vec3(member(s, "center"), "'center'");
+        const double r = positive(member(s, "radius"), "'radius'");
+        box.extend(c - Vec3::Constant(r));
+        box.extend(c + Vec3::Constant(r));
+      } else if (shape == "polyhedron") {
+        for (const JsonValue& p : member(s, "vertices").items) box.extend(vec3(p, "vertex"));
+      } else if (shape == "mesh") {
+        for (const Body& m : read_bodies(mesh_path(s))) box.extend(m.bbox());
+      } else if (s.kind == Kind::Array && s.items.size() == 2 &&
+                 s.items[0].kind == Kind::String && s.items[1].kind == Kind::String) {
+        Eigen::AlignedBox3d a = take(s.items[0].string), c = take(s.items[1].string);
+        if (shape == "unite") box = a.merged(c);
+        else if (shape == "subtract") box = a;
+        else box = a.intersection(c);
+      }
+      Eigen::AlignedBox3d placed;
+      placed.setEmpty();
+      if (!box.isEmpty()) {
+        Transform t = b.find("transform") ? read_transform(*b.find("transform")) : Transform();
+        for (int i = 0; i < 8; ++i)
+          placed.extend(t.apply(Vec3(box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)))));
+      }
+      boxes[n->string] = placed;
+      const JsonValue* hidden = b.find("hidden");
+      if (!(hidden && hidden->kind == Kind::Bool && hidden->boolean)) all.extend(placed);
+    }
+    context_ = saved;
+    if (all.isEmpty()) all.extend(Vec3::Zero());
+    return all;
+  }
+
+  std::string mesh_path(const JsonValue& v) const {
+    fs::path p(text(v, "'mesh'"));
+    if (p.is_relative()) p = fs::path(path_).parent_path() / p;
+    return p.string();
+  }
+
+  const Body& operand(const JsonValue& v, const Scene& scene) const {
+    const std::string name = text(v, "operand");
+    if (!scene.contains(name))
+      fail(v, "operand '" + name + "' is not a body defined earlier in the list");
+    return scene.get(name).body;
+  }
+
+  void read_body(const JsonValue& b, Scene& scene) {
+    context_.clear();
+    if (b.kind != Kind::Object) fail(b, "a body must be an object");
+    const std::string name = text(member(b, "name"), "'name'");
+    if (name.empty()) fail(member(b, "name"), "'name' must not be empty");
+    if (scene.contains(name)) fail(member(b, "name"), "body name '" + name + "' is used twice");
+    context_ = "body '" + name + "': ";
+    std::string shape;
+    const JsonValue& s = *shape_of(b, shape);
+    {
+      std::vector<const char*> keys = {"name", "transform", "material", "hidden"};
+      keys.push_back(shape.c_str());
+      for (size_t i = 0; i < b.members.size(); ++i) {
+        bool known = false;
+        for (const char* k : keys) known = known || b.members[i].first == k;
+        if (!known) {
+          JsonValue at;
+          at.line = b.key_positions[i].first;
+          at.column = b.key_positions[i].second;
+          fail(at, "unknown key '" + b.members[i].first +
+                       "' (expected name, one shape, transform, material, hidden)");
+        }
+      }
+    }
+    const Transform t = b.find("transform") ? read_transform(*b.find("transform")) : Transform();
+    std::string note;
+    std::optional<Body> body;
+    SmoothSurface surface;
+    try {
+      body = build(shape, s, t, scene, note, surface);
+      if (!t.matrix().isIdentity()) body = body->transformed(t);
+      surface = surface.transformed(t);
+    } catch (const InvalidInput& e) {
+      if (std::string(e.what()).rfind(path_ + ":", 0) == 0) throw;
+      fail(s, e.what());
+    }
+    SceneBody& added = scene.add(name, *body);
+    if (const JsonValue* m = b.find("material")) added.material = read_material(*m);
+    if (const JsonValue* h = b.find("hidden")) added.hidden = flag(*h, "'hidden'");
+    added.lod_note = note;
+    added.surface = surface;
+  }
+
+  // `surface` receives the analytic surface of a curved primitive (in its own frame).
+  Body build(const std::string& shape, const JsonValue& s, const Transform& t, const Scene& scene,
+             std::string& note, SmoothSurface& surface) {
+    if (shape == "box") {
+      allow(s, {"min", "max"});
+      return box(vec3(member(s, "min"), "'min'"), vec3(member(s, "max"), "'max'"));
+    }
+    if (shape == "prism") {
+      allow(s, {"polygon", "holes", "z"});
+      std::vector<Polygon2> holes;
+      if (const JsonValue* h = s.find("holes")) {
+        if (h->kind != Kind::Array) fail(*h, "'holes' must be an array of polygons");
+        for (const JsonValue& hole : h->items) holes.push_back(polygon(hole, "a hole"));
+      }
+      auto [z0, z1] = range(member(s, "z"), "'z'");
+      return prism(polygon(member(s, "polygon"), "'polygon'"), z0, z1, holes);
+    }
+    if (shape == "pyramid") {
+      allow(s, {"base", "z", "apex"});
+      return pyramid(polygon(member(s, "base"), "'base'"), number(member(s, "z"), "'z'"),
+                     vec3(member(s, "apex"), "'apex'"));
+    }
+    if (shape == "frustum") {
+      allow(s, {"base", "z", "apex"});
+      auto [z0, z1] = range(member(s, "z"), "'z'");
+      return frustum(polygon(member(s, "base"), "'base'"), z0, vec3(member(s, "apex"), "'apex'"), z1);
+    }
+    if (shape == "regular_prism") {
+      allow(s, {"sides", "radius", "z"});
+      auto [z0, z1] = range(member(s, "z"), "'z'");
+      return regular_prism(integer(member(s, "sides"), "'sides'"),
+                           positive(member(s, "radius"), "'radius'"), z0, z1);
+    }
+    if (shape == "cylinder" || shape == "cone") {
+      allow(s, {"radius", "z", "tolerance", "pixel_tolerance"});
+      const double r = positive(member(s, "radius"), "'radius'");
+      auto [z0, z1] = range(member(s, "z"), "'z'");
+      const double half = std::abs(z1 - z0) / 2;
+      const double tol = curved_tolerance(s, Vec3(0, 0, (z0 + z1) / 2), std::hypot(r, half), t, note);
+      const int n = segments_for_tolerance(r, tol);
+      note = std::to_string(n) + " sides: " + note;
+      surface = shape == "cylinder" ? SmoothSurface::cylinder(r, z0, z1)
+                                    : SmoothSurface::cone(r, z0, z1);
+      return shape == "cylinder" ? cylinder(r, z0, z1, tol) : cone(r, z0, z1, tol);
+    }
+    if (shape == "sphere") {
+      allow(s, {"center", "radius", "tolerance", "pixel_tolerance"});
+      const Vec3 c = vec3(member(s, "center"), "'center'");
+      const double r = positive(member(s, "radius"), "'radius'");
+      const double tol = curved_tolerance(s, c, r, t, note);
+      Body body = sphere(c, r, tol);
+      note = std::to_string(body.face_count()) + " faces: " + note;
+      surface = SmoothSurface::sphere(c, r);
+      return body;
+    }
+    if (shape == "mesh") {
+      std::vector<Body> bodies = read_bodies(mesh_path(s));
+      if (bodies.size() != 1)
+        fail(s, "'" + s.string + "' holds " + std::to_string(bodies.size()) +
+                    " bodies; a scene body takes a mesh of exactly one");
+      return bodies[0];
+    }
+    if (shape == "polyhedron") {
+      allow(s, {"vertices", "faces"});
+      const JsonValue& vs = member(s, "vertices");
+      const JsonValue& fs = member(s, "faces");
+      if (vs.kind != Kind::Array) fail(vs, "'vertices' must be an array of [x, y, z]");
+      if (fs.kind != Kind::Array) fail(fs, "'faces' must be an array");
+      std::vector<Vec3> vertices;
+      for (const JsonValue& p : vs.items) vertices.push_back(vec3(p, "a vertex"));
+      std::vector<Face> faces;
+      for (const JsonValue& f : fs.items) faces.push_back(read_face(f));
+      return Body(std::move(vertices), std::move(faces));
+    }
+    // Boolean bodies over earlier names.
+    if (s.kind != Kind::Array || s.items.size() != 2)
+      fail(s, "'" + shape + "' takes two body names: [\"a\", \"b\"]");
+    const Body& a = operand(s.items[0], scene);
+    const Body& b = operand(s.items[1], scene);
+    if (shape == "unite") return unite(a, b);
+    std::optional<Body> r = shape == "subtract" ? subtract(a, b) : intersect(a, b);
+    if (!r) fail(s, "the " + std::string(shape == "subtract" ? "difference" : "intersection") +
+                        " is empty");
+    return *r;
+  }
+
+  Face read_face(const JsonValue& f) const {
+    if (f.kind != Kind::Array || f.items.empty())
+      fail(f, "a face is an array of vertex indices, or an array of loops (outer, then holes)");
+    auto loop = [&](const JsonValue& l) {
+      if (l.kind != Kind::Array) fail(l, "a loop is an array of vertex indices");
+      std::vector<int> ids;
+      for (const JsonValue& i : l.items) ids.push_back(integer(i, "a vertex index"));
+      return ids;
+    };
+    Face face;
+    if (f.items[0].kind == Kind::Array) {
+      for (const JsonValue& l : f.items) face.loops.push_back(loop(l));
+    } else {
+      face.loops.push_back(loop(f));
+    }
+    return face;
+  }
+
+  std::string path_;
+  std::string context_;
+  const Camera* camera_ = nullptr;
+  const JsonValue* bodies_json_ = nullptr;
+  std::optional<double> view_height_;
+};
+
+nlohmann::json vec_json(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+bool is_scene_path(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == ".json";
+}
+
+Scene parse_scene(const std::string& path, const std::string& text) {
+  JsonValue root = parse_json(path, text);
+  return SceneReader(path).read(root);
+}
+
+Scene read_scene(const std::string& path) { return parse_scene(path, read_file(path)); }
+
+std::string format_scene(const Scene& scene) {
+  nlohmann::ordered_json root;
+  root["version"] = 1;
+  nlohmann::ordered_json bodies = nlohmann::ordered_json::array();
+  for (const SceneBody& sb : scene.bodies()) {
+    nlohmann::ordered_json b;
+    b["name"] = sb.name;
+    nlohmann::ordered_json vertices = nlohmann::ordered_json::array();
+    for (const Vec3& p : sb.body.vertices()) vertices.push_back({p.x(), p.y(), p.z()});
+    nlohmann::ordered_json faces = nlohmann::ordered_json::array();
+    for (const Face& f : sb.body.faces())
+      faces.push_back(f.loops.size() == 1 ? nlohmann::ordered_json(f.loops[0])
+                                          : nlohmann::ordered_json(f.loops));
+    b["polyhedron"] = {{"vertices", vertices}, {"faces", faces}};
+    const Material& m = sb.material;
+    b["material"] = {{"color", {m.color.x(), m.color.y(), m.color.z()}},
+                     {"ka", m.ka}, {"kd", m.kd}, {"ks", m.ks}, {"shininess", m.shininess}};
+    if (sb.hidden) b["hidden"] = true;
+    bodies.push_back(b);
+  }
+  root["bodies"] = bodies;
+  const Camera& c = scene.camera;
+  if (c.projection == Camera::Projection::Parallel)
+    root["camera"] = {{"projection", "parallel"}, {"direction", vec_json(c.direction)},
+                      {"up", vec_json(c.up)}};
+  else
+    root["camera"] = {{"projection", "perspective"}, {"eye", vec_json(c.eye)},
+                      {"target", vec_json(c.target)}, {"up", vec_json(c.up)},
+                      {"fov_deg", c.fov_deg}};
+  nlohmann::ordered_json lights = nlohmann::ordered_json::array();
+  for (const Light& l : scene.lights) {
+    nlohmann::ordered_json j;
+    switch (l.type) {
+      case Light::Type::Directional:
+        j = {{"type", "directional"}, {"direction", vec_json(l.direction)}};
+        break;
+      case Light::Type::Point:
+        j = {{"type", "point"}, {"position", vec_json(l.position)}};
+        break;
+      case Light::Type::Spot:
+        j = {{"type", "spot"}, {"position", vec_json(l.position)},
+             {"direction", vec_json(l.direction)}, {"cone_deg", l.cone_deg}, {"falloff", l.falloff}};
+        break;
+      case Light::Type::Sun:
+        j = {{"type", "sun"}, {"latitude", l.latitude}, {"longitude", l.longitude},
+             {"time", l.time.to_string()}};
+        break;
+    }
+    j["intensity"] = l.intensity;
+    j["color"] = vec_json(l.color);
+    lights.push_back(j);
+  }
+  root["lights"] = lights;
+  root["image"] = {{"width", c.width}, {"height", c.height},
+                   {"background", vec_json(scene.image.background)}};
+  return root.dump(2) + "\n";
+}
+
+void write_scene(const Scene& scene, const std::string& path) {
+  write_file_atomically(path, format_scene(scene));
+}
+
+}  // namespace hedra::io

@@ -1,0 +1,110 @@
+// Cyrus–Beck clipping of segments against convex clippers (algorithms.md §4), exterior
+// clipping (erasing), and clipping against a non-convex clipper given by convex pieces.
+//
+// Exactness. Every decision is exact: the side of each end point with respect to each plane
+// (side_of_plane on ExactPlane), which plane bounds the visible part from below and from above
+// (compare_crossings), and whether anything is visible, a single point, or a proper part. Only
+// the parameters t are rounded. For a crossing of plane F by P(t) = P1 + (P2 − P1)·t, with
+// w = F.value(P1), e = F.value(P2), δw = F.error_bound(max|P1_i|), δe likewise for P2,
+// t is computed as w·(1/(w − e)) and
+//     |t − t_exact| ≤ (δw + δe) / |w − e| + 3u            (u = 2^-53),
+// which crossing() returns. For a plane with a unit normal, |w − e| = L·|cos θ| (L the
+// segment's length, θ the angle between the segment and the normal) and δ ≈ 4u·(|n·P| + |k|),
+// so the end point moves along the segment by at most about (δw + δe)/|cos θ| + 3u·L: small
+// except for segments nearly parallel to a face, as for any construction of an intersection.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "hedra/clip/convex_clipper.h"
+
+namespace hedra {
+
+/// One end of a clipped part of the segment P(t) = P1 + (P2 − P1)·t.
+struct ClipEnd {
+  double t = 0;    // exactly 0 or 1 when plane < 0, else the crossing rounded (bound above)
+  int plane = -1;  // plane of `piece` whose crossing is this end; −1: an end of the segment
+  int piece = 0;   // convex piece of the clipper that `plane` belongs to
+};
+
+/// A closed part [start, end] of a segment, start.t ≤ end.t.
+struct ClipPart {
+  ClipEnd start, end;
+  bool point = false;  // exact: the part is a single point (the segment only touches)
+};
+
+/// A crossing parameter and its error bound (see the header comment).
+struct Crossing {
+  double t = 0;
+  double error = 0;
+};
+
+/// Factors of the crossing bound: the relative part covers the roundings of computing the bound
+/// itself, the absolute part the 3 roundings of t (≤ 3u for t in [0, 1]) and the roundings of
+/// t ± error in the comparisons that use it.
+constexpr double kCrossingInflation = 1 + 8 * (0.5 * std::numeric_limits<double>::epsilon());
+constexpr double kCrossingAbsolute = 6 * (0.5 * std::numeric_limits<double>::epsilon());
+
+/// The crossing from the plane values w = f.value(p1), e = f.value(p2) and their bounds,
+/// clamped to [0, 1]. Inline, so that the batch clipper computes the identical bits.
+inline Crossing crossing_from_values(double w, double e, double bound_w, double bound_e) {
+  const double r = 1.0 / (w - e);
+  double t = w * r;
+  t = t > 1 ? 1.0 : t;
+  t = t < 0 ? 0.0 : t;
+  return {t, (bound_w + bound_e) * std::abs(r) * kCrossingInflation + kCrossingAbsolute};
+}
+
+/// Parameter of the point where segment p1p2 crosses plane f, t = w·(1/(w − e)) clamped to
+/// [0, 1], with its error bound. Meaningful when f(p1) and f(p2) have opposite exact signs.
+/// Cost O(1).
+Crossing crossing(const ExactPlane& f, const Vec3& p1, const Vec3& p2);
+
+/// Cyrus–Beck (algorithms.md §4): the part of segment p1p2 inside the closed convex clipper, or
+/// nullopt. The course's step 5 with exact signs: Wn = f(P1), Dn = f(P2) − f(P1), so "Dn = 0,
+/// Wn < 0" and "t > 1" / "t < 0" are "both ends strictly outside one plane"; a plane that both
+/// ends are on or inside does not bound; the others give t = −Wn/Dn, lower bounds where
+/// Dn > 0 and upper bounds where Dn < 0, of which the exact maximum and minimum count.
+/// Degenerate inputs are exact: a point segment (inside or not), a segment parallel to a face
+/// (inside, outside, or in its plane: kept, since the clipper is closed), through a vertex or
+/// along an edge (kept, or a single point when it only touches).
+/// \throw InvalidInput if a coordinate is not finite or exceeds kMaxAbsCoordinate.
+/// Cost O(planes), plus exact arithmetic only for near-degenerate configurations.
+std::optional<ClipPart> clip_segment(const ConvexClipper& clipper, const Vec3& p1, const Vec3& p2);
+
+/// Exterior clipping (erasing): the closure of the parts of p1p2 outside the clipper, in order:
+/// none, one or two parts. A segment that only touches the clipper comes back whole; one lying
+/// in a face plane inside the face is inside, so nothing comes back.
+/// \throw InvalidInput as clip_segment. Cost O(planes).
+std::vector<ClipPart> clip_segment_outside(const ConvexClipper& clipper, const Vec3& p1,
+                                           const Vec3& p2);
+
+/// Non-convex clipper given as convex pieces (their union; they may touch or overlap): the
+/// per-piece parts merged in order along the segment. Parts that touch or overlap become one
+/// part, decided exactly, so a segment crossing a face shared by two pieces gives one part (no
+/// gap, no duplicate) whenever the pieces' shared face planes coincide exactly, as they do for
+/// an exact decomposition. Single points stay only where they touch no other part.
+/// \throw InvalidInput as clip_segment. Cost O(P·planes + k log k) for k per-piece parts.
+std::vector<ClipPart> clip_segment(std::span<const ConvexClipper> pieces, const Vec3& p1,
+                                   const Vec3& p2);
+
+/// Exterior clipping against the union of the pieces: the closure of the segment minus their
+/// union, as the gaps between the merged inside parts (single points removed).
+std::vector<ClipPart> clip_segment_outside(std::span<const ConvexClipper> pieces, const Vec3& p1,
+                                           const Vec3& p2);
+
+/// Exact order of two ends of parts of the same segment (pieces as in the parts):
+/// sign of a.t_exact − b.t_exact. Cost O(1).
+Sign compare_ends(std::span<const ConvexClipper> pieces, const ClipEnd& a, const ClipEnd& b,
+                  const Vec3& p1, const Vec3& p2);
+
+/// P(t) = P1 + (P2 − P1)·t in double, exactly P1 at t = 0 and P2 at t = 1.
+Vec3 point_at(const Vec3& p1, const Vec3& p2, double t);
+
+
+}  // namespace hedra

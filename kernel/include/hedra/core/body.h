@@ -1,0 +1,137 @@
+// Body: a closed, consistently oriented polyhedron with planar polygonal faces, carrying its
+// inner normals and body matrix. hedra's solid model (algorithms.md §1, §6 stage 0).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "hedra/core/plane.h"
+#include "hedra/core/predicates.h"
+#include "hedra/core/transform.h"
+
+namespace hedra {
+
+/// A planar face: loops[0] is the outer boundary, running counter-clockwise seen from
+/// outside the body (so the right-hand normal points outwards); loops[1..] are holes, running
+/// the other way. Faces with holes are supported directly (the cap of a plate with holes is
+/// one face), not split into simple polygons. Entries are vertex indices.
+struct Face {
+  std::vector<std::vector<int>> loops;
+  Face() = default;
+  Face(std::initializer_list<int> outer) : loops{std::vector<int>(outer)} {}
+  explicit Face(std::vector<int> outer) : loops{std::move(outer)} {}
+  explicit Face(std::vector<std::vector<int>> all_loops) : loops(std::move(all_loops)) {}
+};
+
+/// An undirected edge; `v0 → v1` runs along `left_face`'s boundary and `v1 → v0` along
+/// `right_face`'s.
+struct Edge {
+  int v0, v1;
+  int left_face, right_face;
+};
+
+/// A triangle of a face's triangulation, counter-clockwise seen from outside.
+struct Triangle {
+  std::array<int, 3> v;
+  int face;
+};
+
+/// Result of an exact point classification.
+enum class Location { Inside, OnBoundary, Outside };
+
+struct BodyOptions {
+  /// Largest accepted distance of a face vertex from its face plane. Negative (the default)
+  /// means "exact, up to the rounding of a construction": a face passes when its vertices are
+  /// exactly coplanar, or within kRoundingPlanarity (tolerance.h) times the body's scale,
+  /// which only rounded coordinates (rotations, tessellated spheres) need. Mesh import sets
+  /// an explicit value when asked to.
+  double planarity_tolerance = -1;
+};
+
+/// A validated solid. Value type: copies share the immutable geometry and derived data.
+class Body {
+ public:
+  /// Builds and validates a body. Checks, in this order, with messages naming the place:
+  /// finite coordinates within ±kMaxAbsCoordinate; faces of at least 3 vertices with indices
+  /// in range and no repeated vertex; every vertex used; consistent orientation (each directed
+  /// edge once); closed (each edge has both directions); manifold vertices; planar faces
+  /// whose loops are simple and bound a region; no repeated faces; non-zero volume with
+  /// outward-facing faces.
+  /// \throw InvalidInput with a message such as "face 12 is not planar: vertex 40 is
+  ///   3.1e-04 off its plane (tolerance 1.4e-14)". Cost O(V + E log E).
+  Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOptions& options = {});
+
+  const std::vector<Vec3>& vertices() const;
+  const std::vector<Face>& faces() const;
+  const std::vector<Edge>& edges() const;
+  int vertex_count() const { return static_cast<int>(vertices().size()); }
+  int face_count() const { return static_cast<int>(faces().size()); }
+  int edge_count() const { return static_cast<int>(edges().size()); }
+
+  /// Plane of face f with unit inner normal: interior points give a positive value.
+  const Plane& plane(int f) const;
+  Vec3 inner_normal(int f) const { return plane(f).normal(); }
+  /// The body matrix V (4 × faces): column j is plane(j).coefficients. For a convex body this
+  /// equals the course's matrix signed by the vertex average (algorithms.md §6).
+  const BodyMatrix& matrix() const;
+  /// Three vertices of face f that define its exact supporting plane (outer-loop order, so
+  /// orient3d(a, b, c, p) is Positive outside and Negative inside). Chosen once, well
+  /// conditioned: all exact side-of-face decisions use them.
+  const std::array<int, 3>& support(int f) const;
+  /// Exact side of point p with respect to face f's supporting plane: Positive = inner side
+  /// (the sign convention of the body matrix), Zero = on the plane. Cost O(1).
+  Sign face_side(int f, const Vec3& p) const;
+  /// Triangulation of every face (no zero-area triangles).
+  const std::vector<Triangle>& triangles() const;
+
+  double volume() const;
+  double area() const;
+  double face_area(int f) const;
+  Vec3 centroid() const;
+  const Eigen::AlignedBox3d& bbox() const;
+  /// Largest |coordinate| or bounding-box diagonal: the scale tolerances refer to.
+  double scale() const;
+
+  /// Exact point classification against the triangulated boundary: OnBoundary when p lies on
+  /// a face, else Inside/Outside by the parity of exact ray crossings (rays that graze an
+  /// edge or vertex are replaced by another). Cost O(triangles).
+  Location classify(const Vec3& p) const;
+
+  /// The body moved by `t`. Reflections reverse the face loops so faces still face outwards.
+  /// Perspective transforms are allowed when every vertex stays in front of the centre of
+  /// projection (w > 0). \throw InvalidInput otherwise, or if the result is degenerate.
+  Body transformed(const Transform& t) const;
+  Body translated(const Vec3& d) const { return transformed(Transform::translation(d)); }
+  Body scaled(const Vec3& k, const Vec3& centre = Vec3::Zero()) const {
+    return transformed(Transform::scaling(k, centre));
+  }
+  Body rotated_x(double degrees, const Vec3& centre = Vec3::Zero()) const {
+    return transformed(Transform::rotation_x(degrees, centre));
+  }
+  Body rotated_y(double degrees, const Vec3& centre = Vec3::Zero()) const {
+    return transformed(Transform::rotation_y(degrees, centre));
+  }
+  Body rotated_z(double degrees, const Vec3& centre = Vec3::Zero()) const {
+    return transformed(Transform::rotation_z(degrees, centre));
+  }
+
+ private:
+  struct Impl;
+  std::shared_ptr<const Impl> impl_;
+};
+
+/// The combinatorial checks of Body's constructor alone (coordinates, face lists, used
+/// vertices, orientation, closedness, manifold vertices), for raw data such as an imported
+/// polygon soup, so messages name the input's own face and vertex numbers.
+/// \throw InvalidInput. Cost O(V + E).
+void check_polygon_mesh(const std::vector<Vec3>& vertices, const std::vector<Face>& faces);
+
+/// Signs the columns of a plane matrix the course's way: each column is multiplied by −1
+/// when the interior point s gives a negative value (algorithms.md §6, stage 0).
+BodyMatrix sign_by_interior_point(BodyMatrix planes, const Vec3& s);
+
+}  // namespace hedra

@@ -1,0 +1,29 @@
+// Geometry of one planar face given as loops of vertex indices: Newell normal and the
+// three vertices that carry its exact supporting plane.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "hedra/core/plane.h"
+
+namespace hedra {
+
+/// Newell's area vector of the loops (outer and holes together): its direction is the
+/// right-hand normal of the outer loop, its length twice the face area. Cost O(k).
+Vec3 newell_normal(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& loops);
+
+/// Newell's area vector of one loop.
+Vec3 newell_normal(const std::vector<Vec3>& vertices, const std::vector<int>& loop);
+
+/// Three vertices (a, b, c) of `loop` with (b − a) × (c − a) pointing along `normal` and
+/// within a constant factor of the best-conditioned choice: a is the lexicographically
+/// smallest vertex, b the farthest from a, c maximises |area| along `normal` (b and c swapped when
+/// needed so the triple turns the normal's way). For exactly
+/// coplanar vertices every non-degenerate triple defines the same plane; for rounded ones this
+/// fixes one, deterministically. Cost O(k). Returns c = −1 when every vertex is collinear
+/// with a and b (in floating point).
+std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
+                                  const Vec3& normal);
+
+}  // namespace hedra

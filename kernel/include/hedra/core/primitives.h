@@ -1,0 +1,61 @@
+// Primitive solids. Flat-faced primitives are exact: built from the given coordinates
+// without rounding, so their faces are exactly planar. Curved ones (cylinder, cone, sphere)
+// are polyhedra whose tessellation follows a chordal tolerance: the largest distance between
+// the true surface and the polyhedron, so no body has more faces than the tolerance needs
+// (docs/primitives.md has the faces-vs-tolerance table).
+#pragma once
+
+#include <vector>
+
+#include "hedra/core/body.h"
+
+namespace hedra {
+
+using Polygon2 = std::vector<Vec2>;
+
+/// Axis-aligned box. Faces in the course's order: x = min, x = max, y = min, y = max,
+/// z = min, z = max, so box({−1,−1,−1}, {1,1,1}).matrix() is the course's matrix.
+/// \throw InvalidInput unless min < max in every coordinate.
+Body box(const Vec3& min, const Vec3& max);
+
+/// Prism: the simple polygon `outline` (convex or not, either orientation) with optional
+/// polygonal holes, extruded from z = z0 to z = z1. Consecutive collinear outline vertices are
+/// dropped (they would only split side faces). Faces: bottom, top, then one side face per
+/// outline edge and per hole edge. \throw InvalidInput on self-crossing outlines, holes
+/// outside the outline, or z0 >= z1.
+Body prism(const Polygon2& outline, double z0, double z1,
+           const std::vector<Polygon2>& holes = {});
+
+/// Pyramid over the polygon `base` at height z0 (convex or not) with apex `apex`
+/// (apex.z() != z0). Faces: base, then one triangle per base edge.
+Body pyramid(const Polygon2& base, double z0, const Vec3& apex);
+
+/// Frustum (truncated pyramid): the pyramid over `base` at z0 with apex `apex`, cut by the
+/// plane z = z1 strictly between z0 and apex.z(). Faces: base, top, then one side per edge.
+Body frustum(const Polygon2& base, double z0, const Vec3& apex, double z1);
+
+/// Regular n-gon prism about the z axis with circumradius r, first vertex at angle 0.
+Body regular_prism(int n, double r, double z0, double z1);
+
+/// Number of segments of a regular polygon inscribed in a circle of radius r whose chordal
+/// error r·(1 − cos(π/n)) is at most `tolerance` (at least 3).
+int segments_for_tolerance(double radius, double tolerance);
+
+/// Cylinder about the z axis from z0 to z1, radius r, inscribed n-gon prism with the fewest
+/// sides whose chordal error is at most `tolerance`.
+Body cylinder(double radius, double z0, double z1, double tolerance);
+
+/// Cone: base circle of radius r at z0, apex (0, 0, z1); inscribed pyramid, chordal error at
+/// most `tolerance`.
+Body cone(double radius, double z0, double z1, double tolerance);
+
+/// Sphere of radius r about `centre`: latitude–longitude polyhedron (quad bands, triangle
+/// fans at the poles) with all vertices on the sphere and the fewest bands for which the
+/// largest distance from the sphere to the polyhedron is at most `tolerance`.
+Body sphere(const Vec3& centre, double radius, double tolerance);
+
+/// The chordal error the sphere() tessellation with `rings` latitude bands (and 2·rings
+/// meridians) has: the largest distance from the sphere to any face plane.
+double sphere_chordal_error(double radius, int rings);
+
+}  // namespace hedra

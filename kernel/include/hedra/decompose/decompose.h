@@ -1,0 +1,75 @@
+// Exact convex decomposition by plane splitting (algorithms.md §5).
+#pragma once
+
+#include <functional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "hedra/core/body.h"
+
+namespace hedra {
+
+struct DecomposeOptions {
+  /// More pieces than this is an error (InvalidInput naming the count).
+  int max_pieces = 100000;
+  /// Called after every round of cuts with (pieces done, pieces still open); returning false
+  /// cancels (DecompositionCancelled).
+  std::function<bool(int done, int open)> progress;
+  /// Worker threads for independent pieces (0: TBB's default). The result does not depend on it.
+  int threads = 0;
+  /// Verify the result in exact arithmetic: every piece convex and the pieces' exact volumes
+  /// summing to the input's exact volume (sets Decomposition::verified).
+  bool verify = false;
+  /// After cutting, join adjacent pieces whose union is convex (decided exactly), greedily in
+  /// canonical order. Fewer pieces; each merged piece is still convex and the cover exact.
+  bool merge = false;
+};
+
+struct Decomposition {
+  std::vector<Body> pieces;  // convex, interior-disjoint, covering the input; canonical order
+  int cuts = 0;              // plane cuts made
+  int merges = 0;            // pieces joined by the merge pass (DecomposeOptions::merge)
+  bool verified = false;     // exact checks passed (only with DecomposeOptions::verify)
+  double exact_volume = 0;   // input volume from the exact computation (with verify)
+  /// Pieces that could not be represented in double (decompose_cgal only: CGAL's exact pieces
+  /// include slivers whose corners coincide after rounding). Not in `pieces`.
+  int degenerate_pieces = 0;
+};
+
+class DecompositionCancelled : public std::runtime_error {
+ public:
+  DecompositionCancelled() : std::runtime_error("decomposition cancelled") {}
+};
+
+/// Joins adjacent convex bodies whose union is convex, greedily, until no pair is left: the
+/// merge pass of DecomposeOptions::merge, for pieces from any method (TetGen's tetrahedra,
+/// CGAL's pieces). Two pieces with faces on one plane from opposite sides join iff each one's
+/// vertices lie inside the other's remaining face planes (exact sides; faces of different
+/// pieces on one plane within rounding count as one plane). Pieces that are not exactly
+/// convex (rounded pieces of another method) come first, unchanged; then the merged ones in
+/// canonical order. Cost O(P·F·V) per pass.
+std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges = nullptr);
+
+/// The floating-point variant failed (a crack, a broken piece, a loop that found no cut).
+class DecompositionFailed : public std::runtime_error {
+ public:
+  explicit DecompositionFailed(const std::string& why)
+      : std::runtime_error("floating-point decomposition failed: " + why) {}
+};
+
+/// The course's method, exactly: while a piece has a reflex edge, cut it by the plane of a face
+/// at such an edge (the one lying on the most reflex edges, then crossing the fewest faces,
+/// then the first in input order), split it into connected components, continue.
+///
+/// Exactness: points are CGAL Epeck points (cut points are exact intersections of input edges
+/// with input planes); each point also carries the input planes it lies on, so a vertex is on
+/// its own faces' planes symbolically even when rotated coordinates put it a few ulps off.
+/// Input faces whose planes coincide within rounding (kRoundingPlanarity) share one plane.
+/// A convex input comes back as one piece, unchanged. Deterministic for any thread count.
+/// \throw InvalidInput when more than options.max_pieces pieces are needed.
+/// \throw DecompositionCancelled when the progress callback returns false.
+Decomposition decompose(const Body& body, const DecomposeOptions& options = {});
+
+
+}  // namespace hedra

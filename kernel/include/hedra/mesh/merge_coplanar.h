@@ -1,0 +1,40 @@
+// From a polygon soup (an imported mesh, a Boolean result) to bodies with polygonal faces:
+// adjacent coplanar polygons are merged into one face, holes included.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "hedra/core/body.h"
+
+namespace hedra {
+
+/// Indexed polygons, each a single loop of vertex indices, counter-clockwise from outside.
+struct PolygonSoup {
+  std::vector<Vec3> vertices;
+  std::vector<std::vector<int>> polygons;
+};
+
+struct MergeOptions {
+  /// 0 (default): merge only exactly coplanar neighbours (exact predicates). Positive: also
+  /// neighbours whose vertices lie within this distance of the region's first plane.
+  double coplanar_tolerance = 0;
+  /// Passed to the bodies built (see BodyOptions).
+  double planarity_tolerance = -1;
+};
+
+/// Merges adjacent coplanar polygons into faces, drops vertices left inside merged faces, and
+/// returns one Body per connected component (in order of their first polygon). A triangulated
+/// box becomes one body with 6 faces; the triangulated cap of a plate with holes becomes one
+/// face with holes. Regions whose boundary touches itself at a vertex keep their polygons
+/// unmerged. \throw InvalidInput naming the input polygon or vertex (check_polygon_mesh runs
+/// on the soup first, so numbers refer to the input). Cost O(n log n).
+std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const MergeOptions& options = {});
+
+/// As above, but the caller decides coplanarity: neighbouring polygons with equal
+/// `plane_ids` are merged, others are not. Used where planes were compared exactly before the
+/// coordinates were rounded to double (Boolean results).
+std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const std::vector<int>& plane_ids,
+                                   const MergeOptions& options = {});
+
+}  // namespace hedra

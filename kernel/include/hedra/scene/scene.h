@@ -1,0 +1,76 @@
+// A scene: named bodies with materials, one camera, any number of lights.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "hedra/core/body.h"
+#include "hedra/scene/camera.h"
+#include "hedra/scene/light.h"
+#include "hedra/core/smooth_surface.h"
+
+namespace hedra {
+
+/// Phong material (algorithms.md §8): colour per channel, ambient, diffuse and specular
+/// coefficients and the specular exponent.
+struct Material {
+  Vec3 color = Vec3(0.8, 0.8, 0.8);
+  double ka = 0.2, kd = 0.7, ks = 0.2, shininess = 20;
+  bool operator==(const Material&) const = default;
+  /// \throw InvalidInput naming the field.
+  void validate() const;
+};
+
+struct SceneBody {
+  std::string name;
+  Body body;
+  Material material;
+  /// Hidden bodies (Boolean operands) are kept for reference but are not part of the scene.
+  bool hidden = false;
+  /// For curved primitives: how the tessellation was chosen ("chordal tolerance 0.01").
+  std::string lod_note;
+  /// For curved primitives: the analytic surface, whose normals smooth shading uses
+  /// (render/raster.h). None for every other body: all faces shade flat.
+  SmoothSurface surface;
+
+  SceneBody& with_material(const Material& m) { material = m; return *this; }
+  SceneBody& with_color(const Vec3& c) { material.color = c; return *this; }
+  SceneBody& hide() { hidden = true; return *this; }
+  SceneBody& with_surface(const SmoothSurface& s) { surface = s; return *this; }
+};
+
+struct ImageSettings {
+  Vec3 background = Vec3(1, 1, 1);
+};
+
+/// \code
+///   Scene scene;
+///   scene.add("ground", box({0, 0, -1}, {100, 100, 0}));
+///   scene.add("tower", box({0, 0, 0}, {2, 2, 10}).rotated_z(30).translated({5, 0, 0}))
+///        .with_color({0.8, 0.3, 0.2});
+///   scene.camera = Camera::perspective({30, -40, 25}, {5, 5, 0}, 40);
+///   scene.lights.push_back(Light::sun(52.5, 13.4, UtcTime::parse("2026-06-21T10:00:00Z")));
+/// \endcode
+class Scene {
+ public:
+  /// Adds a body under a new name and returns it for chained settings.
+  /// \throw InvalidInput when the name is empty or already used.
+  SceneBody& add(const std::string& name, const Body& body, const Material& material = {});
+  /// \throw InvalidInput when there is no body of that name.
+  const SceneBody& get(const std::string& name) const;
+  bool contains(const std::string& name) const;
+  const std::vector<SceneBody>& bodies() const { return bodies_; }
+  /// Bodies that are part of the scene (not hidden), in order.
+  std::vector<const SceneBody*> visible_bodies() const;
+  /// Bounding box of the visible bodies.
+  Eigen::AlignedBox3d bbox() const;
+
+  Camera camera = Camera::course_default();
+  std::vector<Light> lights;
+  ImageSettings image;
+
+ private:
+  std::vector<SceneBody> bodies_;
+};
+
+}  // namespace hedra

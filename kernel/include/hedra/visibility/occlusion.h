@@ -1,0 +1,69 @@
+// Occlusion volumes: the region a convex piece hides from a viewpoint (the eye or a light).
+// One clipping core serves both hidden lines (kernel/roberts) and cast shadows
+// (kernel/shadows): design.md, "Architecture".
+#pragma once
+
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "hedra/core/body.h"
+#include "hedra/scene/camera.h"
+#include "hedra/clip/convex_clipper.h"
+#include "hedra/scene/light.h"
+
+namespace hedra {
+
+/// A point of view: a finite point (perspective eye, point or spot light) or a direction at
+/// infinity (parallel view, directional light, sun). Value type.
+struct Viewpoint {
+  bool at_infinity = true;
+  Vec3 point = Vec3::Zero();           // when !at_infinity
+  Vec3 direction = Vec3(0, 0, -1);     // when at_infinity: the way rays travel (into the scene)
+
+  static Viewpoint at(const Vec3& point);
+  static Viewpoint towards(const Vec3& direction);
+  /// Parallel camera: its direction; perspective: its eye.
+  static Viewpoint of(const Camera& camera);
+  /// Directional light and sun: the direction the light travels; point and spot: the position.
+  static Viewpoint of(const Light& light);
+
+  /// The direction of the ray from the viewpoint through p (not normalized; exact for a
+  /// direction, p − point rounded for a point: use only for non-decisions).
+  Vec3 ray_to(const Vec3& p) const { return at_infinity ? direction : Vec3(p - point); }
+};
+
+/// How face f of a body turns to a viewpoint, decided exactly: Front when the viewpoint lies
+/// strictly on the outer side of the face's plane (a direction: it enters the body through
+/// the face, n·d > 0 with n the inner normal), Back when strictly on the inner side, EdgeOn
+/// when in the plane (parallel to it). Equals the sign of the course's E·V with E the
+/// viewer vector (Front ⇔ E·V > 0). Cost O(1).
+enum class Facing { Front, EdgeOn, Back };
+Facing facing(const Body& body, int face, const Viewpoint& view);
+
+/// The open region a convex body B hides from a viewpoint: the points X such that the
+/// segment (or ray, for a direction) from the viewpoint to X meets B's interior before X.
+/// It is the intersection of the inner half-spaces of B's front faces and of the planes
+/// through B's silhouette edges and the viewpoint (parallel to the direction at infinity),
+/// each plane exact (ExactPlane through input points, never rounded). A point on its boundary
+/// is not hidden. Value type.
+struct OcclusionVolume {
+  /// The planes; std::nullopt when B has no front face (the viewpoint is inside B or on its
+  /// boundary, or B is flat as seen): then B hides nothing.
+  std::optional<ConvexClipper> clipper;
+  std::vector<int> front_faces;                // faces of B turned to the viewpoint
+  std::vector<std::pair<int, int>> silhouette;  // vertex ids (a, b) of silhouette edges
+};
+
+/// The occlusion volume of a convex body from a viewpoint. Cost O(F + E).
+/// \pre body is convex (a piece of a decomposition, or a convex input).
+OcclusionVolume occlusion_volume(const Body& convex_body, const Viewpoint& view);
+
+/// Exact: p lies strictly inside the occlusion volume (hidden). Cost O(planes).
+bool hides(const OcclusionVolume& volume, const Vec3& p);
+
+/// The face's plane as an exact plane through its support triple, inner side Positive
+/// (side_of_plane agrees with Body::face_side). Cost O(1).
+ExactPlane exact_face_plane(const Body& body, int face);
+
+}  // namespace hedra

@@ -1,0 +1,201 @@
+#include "hedra/clip/cyrus_beck.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <string>
+
+#include "hedra/core/error.h"
+#include "hedra/core/tolerance.h"
+
+namespace hedra {
+namespace {
+
+void check_point(const Vec3& p) {
+  if (p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxAbsCoordinate) return;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "segment end point (%.17g, %.17g, %.17g) %s", p.x(), p.y(), p.z(),
+                p.allFinite() ? "is beyond ±1e75" : "is not finite");
+  throw InvalidInput(buf);
+}
+
+// One side of the visible part while the planes are scanned: an exact end of the segment
+// (plane < 0, t exactly 0 or 1) or the crossing of plane `plane` (t rounded, ± error).
+struct Bound {
+  double t;
+  double error;
+  int plane;
+};
+
+// The static filter of side_of_plane, reusing the value and bound already computed.
+Sign sign_of(const ExactPlane& f, const Vec3& p, double value, double bound) {
+  if (value > bound) return Sign::Positive;
+  if (value < -bound) return Sign::Negative;
+  return side_of_plane(f, p);
+}
+
+// Sign of a − b for two bounds of the same segment; fa, fb are their planes (when crossings).
+Sign compare_bounds(const Bound& a, const ExactPlane* fa, const Bound& b, const ExactPlane* fb,
+                    const Vec3& p1, const Vec3& p2) {
+  if (a.plane < 0 && b.plane < 0)
+    return a.t < b.t ? Sign::Negative : (a.t > b.t ? Sign::Positive : Sign::Zero);
+  // A crossing lies strictly inside (0, 1): its plane separates the end points strictly.
+  if (a.plane < 0) return a.t == 0 ? Sign::Negative : Sign::Positive;
+  if (b.plane < 0) return b.t == 0 ? Sign::Positive : Sign::Negative;
+  if (fa == fb) return Sign::Zero;
+  if (a.t - a.error > b.t + b.error) return Sign::Positive;
+  if (a.t + a.error < b.t - b.error) return Sign::Negative;
+  return compare_crossings(*fa, *fb, p1, p2);
+}
+
+const ExactPlane* plane_of(std::span<const ConvexClipper> pieces, const ClipEnd& end) {
+  return end.plane < 0 ? nullptr : &pieces[static_cast<size_t>(end.piece)].plane(end.plane);
+}
+
+Bound bound_of(std::span<const ConvexClipper> pieces, const ClipEnd& end, const Vec3& p1,
+               const Vec3& p2) {
+  if (end.plane < 0) return {end.t, 0, -1};
+  const Crossing x = crossing(*plane_of(pieces, end), p1, p2);
+  return {x.t, x.error, end.plane};
+}
+
+}  // namespace
+
+Crossing crossing(const ExactPlane& f, const Vec3& p1, const Vec3& p2) {
+  return crossing_from_values(f.value(p1), f.value(p2), f.error_bound(p1.cwiseAbs().maxCoeff()),
+                              f.error_bound(p2.cwiseAbs().maxCoeff()));
+}
+
+std::optional<ClipPart> clip_segment(const ConvexClipper& clipper, const Vec3& p1, const Vec3& p2) {
+  check_point(p1);
+  check_point(p2);
+  const double m1 = p1.cwiseAbs().maxCoeff(), m2 = p2.cwiseAbs().maxCoeff();
+  // Step 4: t_low = 0, t_up = 1 (exact ends of the segment).
+  Bound low{0, 0, -1}, up{1, 0, -1};
+  for (int i = 0; i < clipper.plane_count(); ++i) {
+    const ExactPlane& f = clipper.plane(i);
+    // Step 5: Wn = f(P1) and f(P2) = Wn + Dn, their signs exact.
+    const double w = f.value(p1), e = f.value(p2);
+    const double bw = f.error_bound(m1), be = f.error_bound(m2);
+    const Sign s1 = sign_of(f, p1, w, bw), s2 = sign_of(f, p2, e, be);
+    // Both ends strictly outside this plane: "Dn = 0 and Wn < 0", or "t > 1" / "t < 0".
+    if (s1 == Sign::Negative && s2 == Sign::Negative) return std::nullopt;
+    // Both ends inside or on the plane (a point, parallel inside, in the face plane, or a
+    // crossing outside [0, 1] on the visible side): the plane does not bound.
+    if (s1 != Sign::Negative && s2 != Sign::Negative) continue;
+    if (s1 == Sign::Negative) {
+      // Dn > 0: a lower bound. P2 on the plane gives t = 1 exactly.
+      if (s2 == Sign::Zero) {
+        low = {1, 0, -1};
+        continue;
+      }
+      if (low.plane < 0 && low.t == 1) continue;  // nothing exceeds an exact 1
+      Crossing x = crossing_from_values(w, e, bw, be);
+      if (!(x.t == x.t)) x = {0.5, 0.5};  // w = e = 0 in double: t unknown within [0, 1]
+      const Bound candidate{x.t, x.error, i};
+      if (low.plane < 0 ||
+          compare_bounds(candidate, &f, low, &clipper.plane(low.plane), p1, p2) == Sign::Positive)
+        low = candidate;  // ties keep the first plane
+    } else {
+      // Dn < 0: an upper bound. P1 on the plane gives t = 0 exactly.
+      if (s1 == Sign::Zero) {
+        up = {0, 0, -1};
+        continue;
+      }
+      if (up.plane < 0 && up.t == 0) continue;
+      Crossing x = crossing_from_values(w, e, bw, be);
+      if (!(x.t == x.t)) x = {0.5, 0.5};
+      const Bound candidate{x.t, x.error, i};
+      if (up.plane < 0 ||
+          compare_bounds(candidate, &f, up, &clipper.plane(up.plane), p1, p2) == Sign::Negative)
+        up = candidate;
+    }
+  }
+  // Step 6: visible iff t_low ≤ t_up, decided exactly.
+  const ExactPlane* fl = low.plane < 0 ? nullptr : &clipper.plane(low.plane);
+  const ExactPlane* fu = up.plane < 0 ? nullptr : &clipper.plane(up.plane);
+  const Sign order = compare_bounds(low, fl, up, fu, p1, p2);
+  if (order == Sign::Positive) return std::nullopt;
+  ClipPart part;
+  part.start = {low.t, low.plane, 0};
+  part.end = {up.t, up.plane, 0};
+  part.point = order == Sign::Zero || p1 == p2;
+  // Rounding may invert ends that are equal or within their error bounds of each other.
+  if (order == Sign::Zero || part.end.t < part.start.t) part.end.t = part.start.t;
+  return part;
+}
+
+Sign compare_ends(std::span<const ConvexClipper> pieces, const ClipEnd& a, const ClipEnd& b,
+                  const Vec3& p1, const Vec3& p2) {
+  if (a.plane >= 0 && b.plane >= 0 && a.piece == b.piece && a.plane == b.plane) return Sign::Zero;
+  return compare_bounds(bound_of(pieces, a, p1, p2), plane_of(pieces, a),
+                        bound_of(pieces, b, p1, p2), plane_of(pieces, b), p1, p2);
+}
+
+std::vector<ClipPart> clip_segment(std::span<const ConvexClipper> pieces, const Vec3& p1,
+                                   const Vec3& p2) {
+  std::vector<ClipPart> parts;
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    if (std::optional<ClipPart> part = clip_segment(pieces[k], p1, p2)) {
+      part->start.piece = part->end.piece = static_cast<int>(k);
+      parts.push_back(*part);
+    }
+  }
+  if (parts.size() < 2) return parts;
+  const auto cmp = [&](const ClipEnd& a, const ClipEnd& b) {
+    return compare_ends(pieces, a, b, p1, p2);
+  };
+  // Order by start (exact), then sweep: a part that starts at or before the current end
+  // (exactly) continues the current part.
+  std::stable_sort(parts.begin(), parts.end(), [&](const ClipPart& a, const ClipPart& b) {
+    return cmp(a.start, b.start) == Sign::Negative;
+  });
+  std::vector<ClipPart> merged;
+  for (const ClipPart& part : parts) {
+    if (!merged.empty() && cmp(part.start, merged.back().end) != Sign::Positive) {
+      ClipPart& back = merged.back();
+      if (cmp(part.end, back.end) == Sign::Positive) back.end = part.end;
+      back.point = p1 == p2 || cmp(back.start, back.end) == Sign::Zero;
+      if (back.end.t < back.start.t) back.end.t = back.start.t;
+    } else {
+      merged.push_back(part);
+    }
+  }
+  return merged;
+}
+
+std::vector<ClipPart> clip_segment_outside(std::span<const ConvexClipper> pieces, const Vec3& p1,
+                                           const Vec3& p2) {
+  const std::vector<ClipPart> inside = clip_segment(pieces, p1, p2);
+  const ClipEnd first{0, -1, 0}, last{1, -1, 0};
+  if (p1 == p2) {
+    // A point segment is a point: outside whole, or not at all.
+    if (inside.empty()) return {ClipPart{first, last, true}};
+    return {};
+  }
+  std::vector<ClipPart> outside;
+  ClipEnd from = first;
+  for (const ClipPart& part : inside) {
+    if (part.point) continue;  // removing a point changes nothing in the closure
+    if (compare_ends(pieces, from, part.start, p1, p2) == Sign::Negative)
+      outside.push_back({from, part.start, false});
+    from = part.end;
+  }
+  if (compare_ends(pieces, from, last, p1, p2) == Sign::Negative)
+    outside.push_back({from, last, false});
+  return outside;
+}
+
+std::vector<ClipPart> clip_segment_outside(const ConvexClipper& clipper, const Vec3& p1,
+                                           const Vec3& p2) {
+  return clip_segment_outside(std::span<const ConvexClipper>(&clipper, 1), p1, p2);
+}
+
+Vec3 point_at(const Vec3& p1, const Vec3& p2, double t) {
+  if (t == 0) return p1;
+  if (t == 1) return p2;
+  return Vec3(p1.x() + (p2.x() - p1.x()) * t, p1.y() + (p2.y() - p1.y()) * t,
+              p1.z() + (p2.z() - p1.z()) * t);
+}
+
+
+}  // namespace hedra

@@ -1,0 +1,392 @@
+#include "hedra/core/body.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numeric>
+#include <string>
+#include <unordered_map>
+
+#include "hedra/core/error.h"
+#include "hedra/core/face_geometry.h"
+#include "hedra/core/tolerance.h"
+#include "hedra/mesh/triangulate.h"
+
+namespace hedra {
+
+struct Body::Impl {
+  std::vector<Vec3> vertices;
+  std::vector<Face> faces;
+  std::vector<Edge> edges;
+  std::vector<Plane> planes;
+  std::vector<std::array<int, 3>> supports;
+  std::vector<Triangle> triangles;
+  std::vector<double> face_areas;
+  BodyMatrix matrix;
+  Eigen::AlignedBox3d bbox;
+  double scale = 0;
+  double volume = 0;
+  double area = 0;
+  Vec3 centroid = Vec3::Zero();
+};
+
+namespace {
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+std::string vec(const Vec3& v) {
+  return "(" + fmt(v.x()) + ", " + fmt(v.y()) + ", " + fmt(v.z()) + ")";
+}
+
+std::string str(int i) { return std::to_string(i); }
+
+std::uint64_t key(int a, int b) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+         static_cast<std::uint32_t>(b);
+}
+
+// Stage: coordinates.
+void check_vertices(const std::vector<Vec3>& vertices) {
+  if (vertices.size() < 4) throw InvalidInput("a body needs at least 4 vertices, got " +
+                                              std::to_string(vertices.size()));
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const Vec3& p = vertices[i];
+    if (!p.allFinite())
+      throw InvalidInput("vertex " + std::to_string(i) + " has a non-finite coordinate " + vec(p));
+    if (p.cwiseAbs().maxCoeff() > kMaxAbsCoordinate)
+      throw InvalidInput("vertex " + std::to_string(i) + " has a coordinate beyond ±" +
+                         fmt(kMaxAbsCoordinate) + ": " + vec(p));
+  }
+}
+
+// Stage: face lists.
+void check_faces(const std::vector<Face>& faces, size_t vertex_count) {
+  if (faces.size() < 4) throw InvalidInput("a body needs at least 4 faces, got " +
+                                           std::to_string(faces.size()));
+  std::vector<int> seen(vertex_count, -1);
+  for (size_t f = 0; f < faces.size(); ++f) {
+    if (faces[f].loops.empty()) throw InvalidInput("face " + std::to_string(f) + " is empty");
+    for (size_t l = 0; l < faces[f].loops.size(); ++l) {
+      const auto& loop = faces[f].loops[l];
+      const std::string where =
+          "face " + std::to_string(f) + (l ? " (hole " + std::to_string(l) + ")" : "");
+      if (loop.size() < 3)
+        throw InvalidInput(where + " has " + std::to_string(loop.size()) +
+                           " vertices; a face needs at least 3");
+      for (int v : loop) {
+        if (v < 0 || static_cast<size_t>(v) >= vertex_count)
+          throw InvalidInput(where + " refers to vertex " + std::to_string(v) +
+                             ", out of range (the body has " + std::to_string(vertex_count) +
+                             " vertices)");
+        if (seen[v] == static_cast<int>(f))
+          throw InvalidInput(where + " uses vertex " + std::to_string(v) + " twice");
+        seen[v] = static_cast<int>(f);
+      }
+    }
+  }
+  for (size_t v = 0; v < vertex_count; ++v)
+    if (seen[v] == -1)
+      throw InvalidInput("vertex " + std::to_string(v) + " is not used by any face");
+}
+
+// Stage: orientation, closedness, manifold vertices; builds the edge list.
+std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_count) {
+  std::unordered_map<std::uint64_t, int> directed;  // (from, to) -> face
+  std::vector<int> conflicts(faces.size(), 0), sizes(faces.size(), 0);
+  int first_a = -1, first_b = -1, first_f = -1, first_g = -1;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (const auto& loop : faces[f].loops) {
+      for (size_t i = 0; i < loop.size(); ++i) {
+        int a = loop[i], b = loop[(i + 1) % loop.size()];
+        ++sizes[f];
+        auto [it, inserted] = directed.emplace(key(a, b), static_cast<int>(f));
+        if (!inserted) {
+          ++conflicts[f];
+          ++conflicts[it->second];
+          if (first_a < 0) { first_a = a; first_b = b; first_f = it->second; first_g = f; }
+        }
+      }
+    }
+  }
+  if (first_a >= 0) {
+    // A single flipped face conflicts with its neighbours along all its edges.
+    int flipped = -1, count = 0;
+    for (size_t f = 0; f < faces.size(); ++f)
+      if (conflicts[f] == sizes[f]) { flipped = static_cast<int>(f); ++count; }
+    if (count == 1)
+      throw InvalidInput("inconsistent orientation: face " + str(flipped) +
+                         " is flipped (it runs along every edge in the same direction as its "
+                         "neighbours)");
+    throw InvalidInput("inconsistent orientation or non-manifold edge: faces " + str(first_f) +
+                       " and " + str(first_g) + " both run along edge " + str(first_a) + "→" +
+                       str(first_b));
+  }
+
+  int boundary = 0, bound_a = -1, bound_b = -1;
+  std::vector<Edge> edges;
+  edges.reserve(directed.size() / 2);
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (const auto& loop : faces[f].loops) {
+      for (size_t i = 0; i < loop.size(); ++i) {
+        int a = loop[i], b = loop[(i + 1) % loop.size()];
+        auto it = directed.find(key(b, a));
+        if (it == directed.end()) {
+          if (boundary++ == 0) { bound_a = a; bound_b = b; }
+        } else if (a < b) {
+          edges.push_back({a, b, static_cast<int>(f), it->second});
+        }
+      }
+    }
+  }
+  if (boundary > 0)
+    throw InvalidInput("not closed: " + str(boundary) + " boundary edge" +
+                       (boundary > 1 ? "s" : "") + ", first between vertices " + str(bound_a) +
+                       " and " + str(bound_b));
+
+  // Manifold vertices: the corners around each vertex form one cycle. Corner (v; in u→v,
+  // out v→w); the next corner around v is the one whose incoming edge is w→v.
+  std::unordered_map<std::uint64_t, int> out_of;  // (v, w) -> corner id
+  std::vector<std::pair<int, int>> corner_in;     // corner -> (v, u): incoming edge u→v
+  for (const auto& face : faces)
+    for (const auto& loop : face.loops)
+      for (size_t i = 0; i < loop.size(); ++i) {
+        int u = loop[(i + loop.size() - 1) % loop.size()], v = loop[i],
+            w = loop[(i + 1) % loop.size()];
+        out_of.emplace(key(v, w), static_cast<int>(corner_in.size()));
+        corner_in.emplace_back(v, u);
+      }
+  std::vector<int> corners_of(vertex_count, 0), cycles_of(vertex_count, 0);
+  std::vector<char> visited(corner_in.size(), 0);
+  for (size_t c = 0; c < corner_in.size(); ++c) ++corners_of[corner_in[c].first];
+  for (size_t c = 0; c < corner_in.size(); ++c) {
+    if (visited[c]) continue;
+    int v = corner_in[c].first;
+    ++cycles_of[v];
+    size_t k = c;
+    while (!visited[k]) {
+      visited[k] = 1;
+      // The incoming edge u→v of corner k is the outgoing edge v→u of the next corner.
+      k = out_of.at(key(v, corner_in[k].second));
+    }
+  }
+  for (size_t v = 0; v < vertex_count; ++v)
+    if (cycles_of[v] > 1)
+      throw InvalidInput("non-manifold vertex " + str(static_cast<int>(v)) + ": its faces form " +
+                         str(cycles_of[v]) + " separate fans (two parts touching at a point?)");
+  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
+    return std::tie(x.v0, x.v1) < std::tie(y.v0, y.v1);
+  });
+  return edges;
+}
+
+double body_scale(const std::vector<Vec3>& vertices, const Eigen::AlignedBox3d& box) {
+  double m = 0;
+  for (const Vec3& p : vertices) m = std::max(m, p.cwiseAbs().maxCoeff());
+  return std::max(m, box.diagonal().norm());
+}
+
+}  // namespace
+
+void check_polygon_mesh(const std::vector<Vec3>& vertices, const std::vector<Face>& faces) {
+  check_vertices(vertices);
+  check_faces(faces, vertices.size());
+  check_topology(faces, vertices.size());
+}
+
+Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOptions& options) {
+  auto impl = std::make_shared<Impl>();
+  // Stage: combinatorial validation.
+  check_vertices(vertices);
+  check_faces(faces, vertices.size());
+  impl->edges = check_topology(faces, vertices.size());
+
+  impl->bbox.setEmpty();
+  for (const Vec3& p : vertices) impl->bbox.extend(p);
+  impl->scale = body_scale(vertices, impl->bbox);
+  const double tolerance = options.planarity_tolerance >= 0
+                               ? options.planarity_tolerance
+                               : kRoundingPlanarity * impl->scale;
+
+  // Stage: per-face geometry: plane, planarity, loops, triangulation.
+  const int n = static_cast<int>(faces.size());
+  impl->planes.resize(n);
+  impl->supports.resize(n);
+  impl->face_areas.resize(n);
+  impl->matrix.resize(4, n);
+  for (int f = 0; f < n; ++f) {
+    const Face& face = faces[f];
+    const std::string where = "face " + str(f);
+    Vec3 outward = newell_normal(vertices, face.loops);
+    double length = outward.norm();
+    if (!(length > 0) || !std::isfinite(length))
+      throw InvalidInput(where + " has zero area (its vertices are collinear)");
+    std::array<int, 3> s = support_triple(vertices, face.loops[0], outward);
+    if (s[2] < 0) throw InvalidInput(where + " has zero area (its vertices are collinear)");
+    if (collinear(vertices[s[0]], vertices[s[1]], vertices[s[2]]))
+      throw InvalidInput(where + " is degenerate (its vertices are collinear)");
+    impl->supports[f] = s;
+    Vec3 unit = outward / length;
+    // Inner normal = −outward; d from the vertex average of the outer loop.
+    Vec3 centre = Vec3::Zero();
+    for (int v : face.loops[0]) centre += vertices[v];
+    centre /= static_cast<double>(face.loops[0].size());
+    impl->planes[f] = Plane::through(centre, -unit);
+    impl->planes[f].coefficients.array() += 0.0;  // −0 becomes +0: cleaner matrices
+    impl->matrix.col(f) = impl->planes[f].coefficients;
+    impl->face_areas[f] = length / 2;
+
+    // Planarity: exact first; then within the tolerance.
+    const Vec3& a = vertices[s[0]];
+    const Vec3& b = vertices[s[1]];
+    const Vec3& c = vertices[s[2]];
+    for (const auto& loop : face.loops)
+      for (int v : loop) {
+        if (v == s[0] || v == s[1] || v == s[2]) continue;
+        if (orient3d(a, b, c, vertices[v]) == Sign::Zero) continue;
+        double off = std::abs(impl->planes[f].value(vertices[v]));
+        if (off > tolerance)
+          throw InvalidInput(where + " is not planar: vertex " + str(v) + " is " + fmt(off) +
+                             " off its plane (tolerance " + fmt(tolerance) + ")");
+      }
+    for (size_t l = 1; l < face.loops.size(); ++l)
+      if (newell_normal(vertices, face.loops[l]).dot(outward) >= 0)
+        throw InvalidInput(where + ": hole " + str(static_cast<int>(l)) +
+                           " runs the same way as the outer loop (holes must run the other way)");
+    if (newell_normal(vertices, face.loops[0]).dot(outward) <= 0)
+      throw InvalidInput(where + ": its outer loop is smaller than its holes");
+    try {
+      for (const auto& t : triangulate_polygon(vertices, face.loops, outward))
+        impl->triangles.push_back({t, f});
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(where + " is not a simple polygon: " + e.what());
+    }
+  }
+
+  // Stage: repeated faces (same vertex set).
+  {
+    std::map<std::vector<int>, int> seen;
+    for (int f = 0; f < n; ++f) {
+      std::vector<int> ids;
+      for (const auto& loop : faces[f].loops) ids.insert(ids.end(), loop.begin(), loop.end());
+      std::sort(ids.begin(), ids.end());
+      auto [it, inserted] = seen.emplace(std::move(ids), f);
+      if (!inserted)
+        throw InvalidInput("faces " + str(it->second) + " and " + str(f) +
+                           " have the same vertices (a repeated face)");
+    }
+  }
+
+  // Stage: volume, area, centroid from the triangles (divergence theorem about the bbox
+  // centre, which keeps the products small for bodies far from the origin).
+  const Vec3 o = impl->bbox.center();
+  double volume6 = 0;
+  Vec3 moment = Vec3::Zero();
+  for (const Triangle& t : impl->triangles) {
+    Vec3 a = vertices[t.v[0]] - o, b = vertices[t.v[1]] - o, c = vertices[t.v[2]] - o;
+    double v6 = a.dot(b.cross(c));
+    volume6 += v6;
+    moment += v6 * (a + b + c);
+  }
+  for (double fa : impl->face_areas) impl->area += fa;
+  impl->volume = volume6 / 6;
+
+  // Flat bodies: every vertex in the plane of face 0 (exact).
+  {
+    const auto& s = impl->supports[0];
+    bool flat = std::all_of(vertices.begin(), vertices.end(), [&](const Vec3& p) {
+      return orient3d(vertices[s[0]], vertices[s[1]], vertices[s[2]], p) == Sign::Zero;
+    });
+    if (flat) throw InvalidInput("flat body: all vertices lie in one plane (volume is zero)");
+  }
+  if (!(impl->volume > 0))
+    throw InvalidInput("faces are oriented inwards (signed volume " + fmt(impl->volume) +
+                       "): every face must run counter-clockwise seen from outside");
+  impl->centroid = o + moment / (4 * volume6);
+
+  impl->vertices = std::move(vertices);
+  impl->faces = std::move(faces);
+  impl_ = std::move(impl);
+}
+
+const std::vector<Vec3>& Body::vertices() const { return impl_->vertices; }
+const std::vector<Face>& Body::faces() const { return impl_->faces; }
+const std::vector<Edge>& Body::edges() const { return impl_->edges; }
+const Plane& Body::plane(int f) const { return impl_->planes.at(f); }
+const BodyMatrix& Body::matrix() const { return impl_->matrix; }
+const std::array<int, 3>& Body::support(int f) const { return impl_->supports.at(f); }
+const std::vector<Triangle>& Body::triangles() const { return impl_->triangles; }
+double Body::volume() const { return impl_->volume; }
+double Body::area() const { return impl_->area; }
+double Body::face_area(int f) const { return impl_->face_areas.at(f); }
+Vec3 Body::centroid() const { return impl_->centroid; }
+const Eigen::AlignedBox3d& Body::bbox() const { return impl_->bbox; }
+double Body::scale() const { return impl_->scale; }
+
+Sign Body::face_side(int f, const Vec3& p) const {
+  const auto& s = support(f);
+  const auto& v = impl_->vertices;
+  return -orient3d(v[s[0]], v[s[1]], v[s[2]], p);
+}
+
+Location Body::classify(const Vec3& p) const {
+  const auto& v = impl_->vertices;
+  const Eigen::AlignedBox3d& box = impl_->bbox;
+  // Outside the closed bounding box: exact comparisons of doubles.
+  for (int i = 0; i < 3; ++i)
+    if (p[i] < box.min()[i] || p[i] > box.max()[i]) return Location::Outside;
+  for (const Triangle& t : impl_->triangles)
+    if (on_triangle(p, v[t.v[0]], v[t.v[1]], v[t.v[2]])) return Location::OnBoundary;
+
+  // Parity of crossings of a segment from p to a far point. Directions from a fixed
+  // low-discrepancy sequence, so results are deterministic; a ray that touches an edge, a
+  // vertex or a face plane (Degenerate) is abandoned for the next direction.
+  const double reach = 4 * (box.diagonal().norm() + (p - box.center()).norm()) + 1;
+  for (int attempt = 0; attempt < 64; ++attempt) {
+    const double golden = 0.6180339887498949;
+    double u = std::fmod(0.1234 + attempt * golden, 1.0);
+    double w = std::fmod(0.5678 + attempt * 0.7548776662466927, 1.0);
+    double z = 2 * u - 1, r = std::sqrt(std::max(0.0, 1 - z * z)), phi = 2 * 3.141592653589793 * w;
+    Vec3 q = p + reach * Vec3(r * std::cos(phi), r * std::sin(phi), z);
+    int crossings = 0;
+    bool degenerate = false;
+    for (const Triangle& t : impl_->triangles) {
+      SegmentTriangle rel = segment_triangle(p, q, v[t.v[0]], v[t.v[1]], v[t.v[2]]);
+      if (rel == SegmentTriangle::Degenerate) { degenerate = true; break; }
+      if (rel == SegmentTriangle::Crossing) ++crossings;
+    }
+    if (!degenerate) return crossings % 2 ? Location::Inside : Location::Outside;
+  }
+  throw std::logic_error("classify: every ray was degenerate");  // not reachable in practice
+}
+
+Body Body::transformed(const Transform& t) const {
+  std::vector<Vec3> moved;
+  moved.reserve(impl_->vertices.size());
+  for (size_t i = 0; i < impl_->vertices.size(); ++i) {
+    Vec4 h = t.apply_homogeneous(impl_->vertices[i]);
+    if (!(h.w() > 0))
+      throw InvalidInput("vertex " + std::to_string(i) +
+                         " maps onto or behind the centre of projection (w = " + fmt(h.w()) + ")");
+    moved.push_back(h.w() == 1.0 ? Vec3(h.head<3>()) : Vec3(h.head<3>() / h.w()));
+  }
+  std::vector<Face> faces = impl_->faces;
+  // Orientation flips when the map reverses handedness (reflections). For a projective map
+  // with w > 0 on the body the sign of det(M) tells the same.
+  if (t.matrix().determinant() < 0)
+    for (Face& face : faces)
+      for (auto& loop : face.loops) std::reverse(loop.begin(), loop.end());
+  return Body(std::move(moved), std::move(faces));
+}
+
+BodyMatrix sign_by_interior_point(BodyMatrix planes, const Vec3& s) {
+  for (Eigen::Index j = 0; j < planes.cols(); ++j)
+    if (s.homogeneous().dot(planes.col(j)) < 0) planes.col(j) *= -1;
+  return planes;
+}
+
+}  // namespace hedra

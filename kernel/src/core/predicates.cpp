@@ -1,0 +1,319 @@
+#include "hedra/core/predicates.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Interval_nt.h>
+#include <CGAL/Mpzf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "hedra/core/error.h"
+
+namespace hedra {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+K::Point_3 cg(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+K::Point_2 cg(const Vec2& p) { return {p.x(), p.y()}; }
+
+Sign to_sign(CGAL::Sign s) { return static_cast<Sign>(static_cast<int>(s)); }
+
+int dominant_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
+  Vec3 n = (b - a).cross(c - a);
+  int axis;
+  n.cwiseAbs().maxCoeff(&axis);
+  return axis;
+}
+
+Vec2 drop(const Vec3& p, int axis) {
+  switch (axis) {
+    case 0: return {p.y(), p.z()};
+    case 1: return {p.z(), p.x()};
+    default: return {p.x(), p.y()};
+  }
+}
+
+}  // namespace
+
+Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return to_sign(CGAL::orientation(cg(a), cg(b), cg(c), cg(d)));
+}
+
+Sign orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
+  return to_sign(CGAL::orientation(cg(a), cg(b), cg(c)));
+}
+
+Sign side_of_plane(const Plane& plane, const Vec3& p) {
+  const Vec4& k = plane.coefficients;
+  // Filter: interval arithmetic decides almost always.
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    using I = CGAL::Interval_nt_advanced;
+    I v = I(k[0]) * I(p.x()) + I(k[1]) * I(p.y()) + I(k[2]) * I(p.z()) + I(k[3]);
+    if (v.inf() > 0) return Sign::Positive;
+    if (v.sup() < 0) return Sign::Negative;
+  }
+  // Exact: Mpzf represents every double and their sums and products exactly.
+  CGAL::Mpzf v = CGAL::Mpzf(k[0]) * CGAL::Mpzf(p.x()) + CGAL::Mpzf(k[1]) * CGAL::Mpzf(p.y()) +
+                 CGAL::Mpzf(k[2]) * CGAL::Mpzf(p.z()) + CGAL::Mpzf(k[3]);
+  return to_sign(CGAL::sign(v));
+}
+
+bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+  return CGAL::collinear(cg(a), cg(b), cg(c));
+}
+
+SegmentTriangle segment_triangle(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b,
+                                 const Vec3& c) {
+  Sign sp = orient3d(a, b, c, p);
+  Sign sq = orient3d(a, b, c, q);
+  if (sp == sq && sp != Sign::Zero) return SegmentTriangle::Disjoint;
+  if (sp == Sign::Zero || sq == Sign::Zero) {
+    // An end point in the triangle's plane, or the whole segment coplanar.
+    if (sp == Sign::Zero && on_triangle(p, a, b, c)) return SegmentTriangle::Degenerate;
+    if (sq == Sign::Zero && on_triangle(q, a, b, c)) return SegmentTriangle::Degenerate;
+    if (sp == Sign::Zero && sq == Sign::Zero) {
+      // Coplanar: degenerate unless clearly apart; conservative is fine for its users
+      // (ray casting retries with another ray).
+      return SegmentTriangle::Degenerate;
+    }
+    return SegmentTriangle::Disjoint;
+  }
+  // p and q strictly on opposite sides: the line pq crosses the plane inside the triangle
+  // iff it passes on the same side of the three edges.
+  Sign e0 = orient3d(p, q, a, b);
+  Sign e1 = orient3d(p, q, b, c);
+  Sign e2 = orient3d(p, q, c, a);
+  if (e0 == Sign::Zero || e1 == Sign::Zero || e2 == Sign::Zero) {
+    bool pos = e0 == Sign::Positive || e1 == Sign::Positive || e2 == Sign::Positive;
+    bool neg = e0 == Sign::Negative || e1 == Sign::Negative || e2 == Sign::Negative;
+    return (pos && neg) ? SegmentTriangle::Disjoint : SegmentTriangle::Degenerate;
+  }
+  return (e0 == e1 && e1 == e2) ? SegmentTriangle::Crossing : SegmentTriangle::Disjoint;
+}
+
+bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  if (orient3d(a, b, c, p) != Sign::Zero) return false;
+  // Coplanar: dropping the dominant axis of the normal projects injectively, and dropping a
+  // coordinate is exact, so the 2D predicates below stay exact.
+  int axis = dominant_axis(a, b, c);
+  Vec2 pa = drop(a, axis), pb = drop(b, axis), pc = drop(c, axis), pp = drop(p, axis);
+  Sign s0 = orient2d(pa, pb, pp), s1 = orient2d(pb, pc, pp), s2 = orient2d(pc, pa, pp);
+  bool pos = s0 == Sign::Positive || s1 == Sign::Positive || s2 == Sign::Positive;
+  bool neg = s0 == Sign::Negative || s1 == Sign::Negative || s2 == Sign::Negative;
+  return !(pos && neg);
+}
+
+// ---- ExactPlane ----
+
+namespace {
+
+constexpr double kUnit = 0.5 * std::numeric_limits<double>::epsilon();  // u = 2^-53
+constexpr double kTiny = std::numeric_limits<double>::denorm_min();
+// γ_n of Higham: |fl(Σ_{i<n} x_i·y_i) − Σ x_i·y_i| ≤ γ_n · Σ |x_i·y_i| (no underflow).
+constexpr double gamma_n(int n) { return n * kUnit / (1 - n * kUnit); }
+// Covers the few roundings of computing a bound in double (each a factor ≥ 1 − u).
+constexpr double kBoundInflation = 1 + 8 * kUnit;
+
+using Interval = CGAL::Interval_nt_advanced;
+
+// Sign of an expression evaluated by `expr(T())` for T = Interval (under upward rounding)
+// and, when the interval contains zero without being zero, for T = CGAL::Mpzf, exactly.
+template <class Expr>
+Sign filtered_sign(const Expr& expr) {
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    const Interval v = expr(Interval(0));
+    if (v.inf() > 0) return Sign::Positive;
+    if (v.sup() < 0) return Sign::Negative;
+    if (v.inf() == 0 && v.sup() == 0) return Sign::Zero;
+  }
+  return to_sign(CGAL::sign(expr(CGAL::Mpzf(0))));
+}
+
+// Radius that surely covers |x − mid| for x in [inf, sup]: the exact difference rounded to
+// nearest can be half an ulp short; (1 + 4u) makes up for it.
+double radius(double inf, double sup, double mid) {
+  return std::max(sup - mid, mid - inf) * (1 + 4 * kUnit);
+}
+
+}  // namespace
+
+// f(p) exactly (T = Mpzf) or enclosed (T = Interval, under upward rounding).
+template <class T>
+T exact_plane_value(const ExactPlane& f, const Vec3& p) {
+  T value(0);
+  if (f.by_points_) {
+    const Vec3 &a = f.points_[0], &b = f.points_[1], &c = f.points_[2];
+    const T bax = T(b.x()) - T(a.x()), bay = T(b.y()) - T(a.y()), baz = T(b.z()) - T(a.z());
+    // Through a direction: c is the direction itself, not a point.
+    const T cax = f.by_direction_ ? T(c.x()) : T(c.x()) - T(a.x());
+    const T cay = f.by_direction_ ? T(c.y()) : T(c.y()) - T(a.y());
+    const T caz = f.by_direction_ ? T(c.z()) : T(c.z()) - T(a.z());
+    const T pax = T(p.x()) - T(a.x()), pay = T(p.y()) - T(a.y()), paz = T(p.z()) - T(a.z());
+    const T det = bax * (cay * paz - caz * pay) - bay * (cax * paz - caz * pax) +
+                  baz * (cax * pay - cay * pax);
+    value = T(0) - det;  // f = −det[b − a, c − a, p − a]: Positive on the inner side
+  } else {
+    const Vec4& k = f.plane_.coefficients;
+    value = T(k[0]) * T(p.x()) + T(k[1]) * T(p.y()) + T(k[2]) * T(p.z()) + T(k[3]);
+  }
+  return f.negated_ ? T(0) - value : value;
+}
+
+ExactPlane ExactPlane::through(const Vec3& a, const Vec3& b, const Vec3& c) {
+  if (!a.allFinite() || !b.allFinite() || !c.allFinite())
+    throw InvalidInput("plane through a point with a coordinate that is not finite");
+  if (collinear(a, b, c)) throw InvalidInput("plane through three collinear points");
+  return build(a, b, c, false);
+}
+
+ExactPlane ExactPlane::through_direction(const Vec3& a, const Vec3& b, const Vec3& d) {
+  if (!a.allFinite() || !b.allFinite() || !d.allFinite())
+    throw InvalidInput("plane through a point or direction that is not finite");
+  // Parallel to d: the exact cross product (b − a) × d must not vanish.
+  ExactPlane probe;
+  probe.by_points_ = true;
+  probe.by_direction_ = true;
+  probe.points_ = {a, b, d};
+  // Degenerate iff f vanishes identically (f(a) = 0): test it at a moved along each axis.
+  bool degenerate = true;
+  for (int i = 0; i < 3 && degenerate; ++i) {
+    Vec3 q = a;
+    q[i] += std::abs(a[i]) + 1;  // differs from a[i] whatever the rounding
+    degenerate = filtered_sign([&](auto zero) {
+                   return exact_plane_value<decltype(zero)>(probe, q);
+                 }) == Sign::Zero;
+  }
+  if (degenerate) throw InvalidInput("plane through two points parallel to their own direction");
+  return build(a, b, d, true);
+}
+
+ExactPlane ExactPlane::build(const Vec3& a, const Vec3& b, const Vec3& c, bool direction) {
+  ExactPlane f;
+  f.by_points_ = true;
+  f.by_direction_ = direction;
+  f.points_ = {a, b, c};
+  // n = (c − a) × (b − a) and k = −n·a, so that n·p + k = −det[b − a, c − a, p − a] = f(p).
+  // Enclosed by intervals; the double form takes the midpoints and the radii go to the bound.
+  double lo[4], hi[4];
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    const Interval bax = Interval(b.x()) - Interval(a.x()), bay = Interval(b.y()) - Interval(a.y()),
+                   baz = Interval(b.z()) - Interval(a.z());
+    const Interval cax = direction ? Interval(c.x()) : Interval(c.x()) - Interval(a.x());
+    const Interval cay = direction ? Interval(c.y()) : Interval(c.y()) - Interval(a.y());
+    const Interval caz = direction ? Interval(c.z()) : Interval(c.z()) - Interval(a.z());
+    const Interval n0 = cay * baz - caz * bay, n1 = caz * bax - cax * baz,
+                   n2 = cax * bay - cay * bax;
+    const Interval k =
+        Interval(0) - (n0 * Interval(a.x()) + n1 * Interval(a.y()) + n2 * Interval(a.z()));
+    const Interval all[4] = {n0, n1, n2, k};
+    for (int i = 0; i < 4; ++i) lo[i] = all[i].inf(), hi[i] = all[i].sup();
+  }
+  double mid[4], rad[4];
+  for (int i = 0; i < 4; ++i) {
+    mid[i] = 0.5 * lo[i] + 0.5 * hi[i];
+    rad[i] = radius(lo[i], hi[i], mid[i]);
+  }
+  const int e = std::ilogb(std::max({std::abs(mid[0]), std::abs(mid[1]), std::abs(mid[2])}));
+  double slope = 0;
+  for (int i = 0; i < 3; ++i) {
+    // Scaling by 2^-e is exact except in the subnormal range (half an ulp there: kTiny).
+    f.n_[i] = std::ldexp(mid[i], -e);
+    const double r = std::ldexp(rad[i], -e) * (1 + 2 * kUnit) + kTiny;
+    slope += gamma_n(4) * std::abs(f.n_[i]) + r;
+  }
+  f.k_ = std::ldexp(mid[3], -e);
+  const double rk = std::ldexp(rad[3], -e) * (1 + 2 * kUnit) + kTiny;
+  f.slope_ = slope * kBoundInflation;
+  f.offset_ = (gamma_n(4) * std::abs(f.k_) + rk + 8 * kTiny) * kBoundInflation;
+  if (!std::isfinite(f.k_) || !std::isfinite(f.slope_) || !std::isfinite(f.offset_))
+    throw InvalidInput("plane through points too far from the origin");
+  return f;
+}
+
+ExactPlane ExactPlane::from_coefficients(const Plane& plane) {
+  const Vec4& c = plane.coefficients;
+  if (!c.allFinite()) throw InvalidInput("plane with a coefficient that is not finite");
+  if (c.head<3>().isZero()) throw InvalidInput("plane with a zero normal");
+  ExactPlane f;
+  f.plane_ = plane;
+  const int e = std::ilogb(c.head<3>().cwiseAbs().maxCoeff());
+  double slope = 0;
+  for (int i = 0; i < 3; ++i) {
+    f.n_[i] = std::ldexp(c[i], -e);  // exact outside the subnormal range
+    slope += gamma_n(4) * std::abs(f.n_[i]) + kTiny;
+  }
+  f.k_ = std::ldexp(c[3], -e);
+  if (!std::isfinite(f.k_))
+    throw InvalidInput("plane too far from the origin for the size of its normal");
+  f.slope_ = slope * kBoundInflation;
+  f.offset_ = (gamma_n(4) * std::abs(f.k_) + 9 * kTiny) * kBoundInflation;
+  return f;
+}
+
+ExactPlane ExactPlane::flipped() const {
+  ExactPlane f = *this;
+  f.negated_ = !negated_;
+  f.n_ = -n_;
+  f.k_ = -k_;
+  return f;
+}
+
+Sign side_of_plane(const ExactPlane& f, const Vec3& p) {
+  const double v = f.value(p), bound = f.error_bound(p.cwiseAbs().maxCoeff());
+  if (v > bound) return Sign::Positive;
+  if (v < -bound) return Sign::Negative;
+  return filtered_sign([&](auto zero) { return exact_plane_value<decltype(zero)>(f, p); });
+}
+
+Sign direction_sign(const ExactPlane& f, const Vec3& d) {
+  return filtered_sign([&](auto zero) {
+    using T = decltype(zero);
+    T value(0);
+    if (f.by_points()) {
+      const auto& pts = f.points();
+      const Vec3 &a = pts[0], &b = pts[1], &c = pts[2];
+      const T bax = T(b.x()) - T(a.x()), bay = T(b.y()) - T(a.y()), baz = T(b.z()) - T(a.z());
+      const T cax = f.by_direction() ? T(c.x()) : T(c.x()) - T(a.x());
+      const T cay = f.by_direction() ? T(c.y()) : T(c.y()) - T(a.y());
+      const T caz = f.by_direction() ? T(c.z()) : T(c.z()) - T(a.z());
+      const T det = bax * (cay * T(d.z()) - caz * T(d.y())) - bay * (cax * T(d.z()) - caz * T(d.x())) +
+                    baz * (cax * T(d.y()) - cay * T(d.x()));
+      value = T(0) - det;
+    } else {
+      const Vec4& k = f.coefficients().coefficients;
+      value = T(k[0]) * T(d.x()) + T(k[1]) * T(d.y()) + T(k[2]) * T(d.z());
+    }
+    return f.negated() ? T(0) - value : value;
+  });
+}
+
+Sign compare_crossings(const ExactPlane& f, const ExactPlane& g, const Vec3& p, const Vec3& q) {
+  return filtered_sign([&](auto zero) {
+    using T = decltype(zero);
+    const T fp = exact_plane_value<T>(f, p), fq = exact_plane_value<T>(f, q);
+    const T gp = exact_plane_value<T>(g, p), gq = exact_plane_value<T>(g, q);
+    // t_f − t_g = (g(p)·f(q) − f(p)·g(q)) / ((f(p) − f(q))·(g(p) − g(q))): same sign as
+    // the product of the three factors.
+    return (gp * fq - fp * gq) * (fp - fq) * (gp - gq);
+  });
+}
+
+Sign compare_crossings_along(const ExactPlane& f, const Vec3& p, const Vec3& q, const Vec3& r,
+                             const Vec3& s, int axis) {
+  return filtered_sign([&](auto zero) {
+    using T = decltype(zero);
+    const T fp = exact_plane_value<T>(f, p), fq = exact_plane_value<T>(f, q);
+    const T fr = exact_plane_value<T>(f, r), fs = exact_plane_value<T>(f, s);
+    const T nx = fp * T(q[axis]) - fq * T(p[axis]), dx = fp - fq;
+    const T ny = fr * T(s[axis]) - fs * T(r[axis]), dy = fr - fs;
+    // X − Y = (nx·dy − ny·dx) / (dx·dy).
+    return (nx * dy - ny * dx) * dx * dy;
+  });
+}
+
+}  // namespace hedra

@@ -1,0 +1,255 @@
+#include "hedra/core/primitives.h"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "hedra/core/error.h"
+
+namespace hedra {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+void require(bool ok, const std::string& message) {
+  if (!ok) throw InvalidInput(message);
+}
+
+void require_finite(double v, const char* what) {
+  require(std::isfinite(v), std::string(what) + " is not finite");
+}
+
+double signed_area(const Polygon2& p) {
+  double a = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Vec2& u = p[i];
+    const Vec2& v = p[(i + 1) % p.size()];
+    a += u.x() * v.y() - u.y() * v.x();
+  }
+  return a / 2;
+}
+
+// Drops consecutive duplicate and collinear vertices (exact), then orients the polygon
+// counter-clockwise (ccw = true) or clockwise.
+Polygon2 clean(Polygon2 p, bool ccw, const std::string& what) {
+  for (const Vec2& q : p)
+    require(q.allFinite(), what + " has a non-finite coordinate");
+  bool changed = true;
+  while (changed && p.size() >= 3) {
+    changed = false;
+    for (size_t i = 0; i < p.size() && p.size() >= 3; ++i) {
+      const Vec2& a = p[(i + p.size() - 1) % p.size()];
+      const Vec2& b = p[i];
+      const Vec2& c = p[(i + 1) % p.size()];
+      if (a == b || orient2d(a, b, c) == Sign::Zero) {
+        // Collinear b: drop it unless it is a spike (a reversal), which stays and fails later.
+        if (a == b || (b - a).dot(c - b) > 0) {
+          p.erase(p.begin() + static_cast<long>(i));
+          changed = true;
+        }
+      }
+    }
+  }
+  require(p.size() >= 3, what + " has fewer than 3 non-collinear vertices");
+  double area = signed_area(p);
+  require(area != 0, what + " has zero area");
+  if ((area > 0) != ccw) std::reverse(p.begin(), p.end());
+  return p;
+}
+
+Polygon2 circle(int n, double r) {
+  Polygon2 p;
+  for (int i = 0; i < n; ++i) {
+    double t = 2 * kPi * i / n;
+    p.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  return p;
+}
+
+}  // namespace
+
+Body box(const Vec3& min, const Vec3& max) {
+  require(min.allFinite() && max.allFinite(), "box corners must be finite");
+  require((min.array() < max.array()).all(), "box: min must be below max in every coordinate");
+  std::vector<Vec3> v;
+  for (int i = 0; i < 8; ++i)
+    v.emplace_back(i & 1 ? max.x() : min.x(), i & 2 ? max.y() : min.y(), i & 4 ? max.z() : min.z());
+  // Vertex i has x = bit 0, y = bit 1, z = bit 2. Loops counter-clockwise from outside.
+  std::vector<Face> faces = {
+      {0, 4, 6, 2},  // x = min
+      {1, 3, 7, 5},  // x = max
+      {0, 1, 5, 4},  // y = min
+      {2, 6, 7, 3},  // y = max
+      {0, 2, 3, 1},  // z = min
+      {4, 5, 7, 6},  // z = max
+  };
+  return Body(std::move(v), std::move(faces));
+}
+
+Body prism(const Polygon2& outline, double z0, double z1, const std::vector<Polygon2>& holes) {
+  require_finite(z0, "prism z0");
+  require_finite(z1, "prism z1");
+  require(z0 < z1, "prism: z0 must be below z1");
+  std::vector<Polygon2> loops{clean(outline, true, "prism outline")};
+  for (size_t h = 0; h < holes.size(); ++h)
+    loops.push_back(clean(holes[h], false, "prism hole " + std::to_string(h)));
+
+  std::vector<Vec3> v;
+  std::vector<std::vector<int>> bottom, top;
+  std::vector<Face> sides;
+  for (const Polygon2& loop : loops) {
+    const int base = static_cast<int>(v.size());
+    const int k = static_cast<int>(loop.size());
+    for (const Vec2& p : loop) v.emplace_back(p.x(), p.y(), z0);
+    for (const Vec2& p : loop) v.emplace_back(p.x(), p.y(), z1);
+    std::vector<int> b, t;
+    for (int i = k - 1; i >= 0; --i) b.push_back(base + i);  // seen from below: reversed
+    for (int i = 0; i < k; ++i) t.push_back(base + k + i);
+    bottom.push_back(b);
+    top.push_back(t);
+    for (int i = 0; i < k; ++i) {
+      int j = (i + 1) % k;
+      sides.push_back(Face{base + i, base + j, base + k + j, base + k + i});
+    }
+  }
+  std::vector<Face> faces{Face(bottom), Face(top)};
+  faces.insert(faces.end(), sides.begin(), sides.end());
+  return Body(std::move(v), std::move(faces));
+}
+
+Body pyramid(const Polygon2& base, double z0, const Vec3& apex) {
+  require_finite(z0, "pyramid z0");
+  require(apex.allFinite(), "pyramid apex is not finite");
+  require(apex.z() != z0, "pyramid apex lies in the plane of its base");
+  // Base loop counter-clockwise seen from outside: from below when the apex is above.
+  const bool up = apex.z() > z0;
+  Polygon2 p = clean(base, up, "pyramid base");
+  const int k = static_cast<int>(p.size());
+  std::vector<Vec3> v;
+  for (const Vec2& q : p) v.emplace_back(q.x(), q.y(), z0);
+  v.push_back(apex);
+  std::vector<int> b;
+  for (int i = k - 1; i >= 0; --i) b.push_back(i);
+  std::vector<Face> faces{Face(b)};
+  for (int i = 0; i < k; ++i) faces.push_back(Face{i, (i + 1) % k, k});
+  return Body(std::move(v), std::move(faces));
+}
+
+Body frustum(const Polygon2& base, double z0, const Vec3& apex, double z1) {
+  require_finite(z0, "frustum z0");
+  require_finite(z1, "frustum z1");
+  require(apex.allFinite(), "frustum apex is not finite");
+  require((z0 < z1 && z1 < apex.z()) || (z0 > z1 && z1 > apex.z()),
+          "frustum: z1 must lie strictly between the base and the apex");
+  const bool up = apex.z() > z0;
+  Polygon2 p = clean(base, up, "frustum base");
+  const int k = static_cast<int>(p.size());
+  const double s = (z1 - z0) / (apex.z() - z0);  // fraction of the way to the apex
+  std::vector<Vec3> v;
+  for (const Vec2& q : p) v.emplace_back(q.x(), q.y(), z0);
+  for (const Vec2& q : p)
+    v.emplace_back(q.x() + s * (apex.x() - q.x()), q.y() + s * (apex.y() - q.y()), z1);
+  std::vector<int> b, t;
+  for (int i = k - 1; i >= 0; --i) b.push_back(i);
+  for (int i = 0; i < k; ++i) t.push_back(k + i);
+  std::vector<Face> faces{Face(b), Face(t)};
+  for (int i = 0; i < k; ++i) {
+    int j = (i + 1) % k;
+    faces.push_back(Face{i, j, k + j, k + i});
+  }
+  return Body(std::move(v), std::move(faces));
+}
+
+Body regular_prism(int n, double r, double z0, double z1) {
+  require(n >= 3, "a regular prism needs at least 3 sides");
+  require(std::isfinite(r) && r > 0, "regular prism radius must be positive");
+  return prism(circle(n, r), z0, z1);
+}
+
+int segments_for_tolerance(double radius, double tolerance) {
+  require(std::isfinite(radius) && radius > 0, "radius must be positive");
+  require(std::isfinite(tolerance) && tolerance > 0, "chordal tolerance must be positive");
+  if (tolerance >= radius) return 3;
+  // r (1 − cos(π/n)) <= tol  ⇔  n >= π / acos(1 − tol/r)
+  int n = static_cast<int>(std::ceil(kPi / std::acos(1 - tolerance / radius) - 1e-9));
+  while (radius * (1 - std::cos(kPi / n)) > tolerance) ++n;
+  return std::max(n, 3);
+}
+
+Body cylinder(double radius, double z0, double z1, double tolerance) {
+  return regular_prism(segments_for_tolerance(radius, tolerance), radius, z0, z1);
+}
+
+Body cone(double radius, double z0, double z1, double tolerance) {
+  return pyramid(circle(segments_for_tolerance(radius, tolerance), radius), z0, Vec3(0, 0, z1));
+}
+
+namespace {
+
+// Vertices and faces of the latitude–longitude sphere with `rings` bands and 2·rings
+// meridians, about the origin.
+void sphere_mesh(double r, int rings, std::vector<Vec3>& v, std::vector<Face>& faces) {
+  const int m = 2 * rings;
+  v.clear();
+  faces.clear();
+  v.emplace_back(0, 0, -r);
+  for (int i = 1; i < rings; ++i) {
+    double phi = -kPi / 2 + kPi * i / rings;
+    for (int j = 0; j < m; ++j) {
+      double lambda = 2 * kPi * j / m;
+      v.emplace_back(r * std::cos(phi) * std::cos(lambda), r * std::cos(phi) * std::sin(lambda),
+                     r * std::sin(phi));
+    }
+  }
+  v.emplace_back(0, 0, r);
+  const int south = 0, north = static_cast<int>(v.size()) - 1;
+  auto ring = [&](int i, int j) { return 1 + (i - 1) * m + (j % m); };
+  for (int j = 0; j < m; ++j) faces.push_back(Face{south, ring(1, j + 1), ring(1, j)});
+  for (int i = 1; i + 1 < rings; ++i)
+    for (int j = 0; j < m; ++j)
+      faces.push_back(Face{ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i + 1, j)});
+  for (int j = 0; j < m; ++j) faces.push_back(Face{north, ring(rings - 1, j), ring(rings - 1, j + 1)});
+}
+
+}  // namespace
+
+double sphere_chordal_error(double radius, int rings) {
+  // All vertices lie on the sphere and each face contains the foot of the perpendicular from
+  // the centre (faces are symmetric about their mid-meridian and the foot lies between the
+  // face's latitudes), so the largest sphere-to-polyhedron distance is
+  // max over faces of r − dist(centre, face plane). Faces of one band are congruent: one
+  // face per band is enough. Cost O(rings).
+  const int m = 2 * rings;
+  auto point = [&](int i, int j) {
+    double phi = -kPi / 2 + kPi * i / rings, lambda = 2 * kPi * j / m;
+    return Vec3(radius * std::cos(phi) * std::cos(lambda),
+                radius * std::cos(phi) * std::sin(lambda), radius * std::sin(phi));
+  };
+  double worst = 0;
+  for (int i = 0; i < rings; ++i) {
+    // Band i lies between latitudes i and i + 1; at a pole two of its corners coincide.
+    Vec3 a = point(i, 0), b = point(i, 1), c = point(i + 1, 1), d = point(i + 1, 0);
+    Vec3 n = i == 0 ? (c - a).cross(d - a) : (b - a).cross(d - a);
+    double dist = std::abs(n.normalized().dot(a));
+    worst = std::max(worst, radius - dist);
+  }
+  return worst;
+}
+
+Body sphere(const Vec3& centre, double radius, double tolerance) {
+  require(centre.allFinite(), "sphere centre is not finite");
+  require(std::isfinite(radius) && radius > 0, "sphere radius must be positive");
+  require(std::isfinite(tolerance) && tolerance > 0, "chordal tolerance must be positive");
+  int rings = 2;
+  while (sphere_chordal_error(radius, rings) > tolerance) {
+    require(rings < 4096, "sphere: chordal tolerance too small for a tessellation");
+    ++rings;
+  }
+  std::vector<Vec3> v;
+  std::vector<Face> faces;
+  sphere_mesh(radius, rings, v, faces);
+  for (Vec3& p : v) p += centre;
+  return Body(std::move(v), std::move(faces));
+}
+
+}  // namespace hedra

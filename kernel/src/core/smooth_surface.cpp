@@ -1,0 +1,95 @@
+#include "hedra/core/smooth_surface.h"
+
+#include <cmath>
+
+#include <Eigen/LU>
+
+namespace hedra {
+
+SmoothSurface SmoothSurface::sphere(const Vec3& centre, double radius) {
+  SmoothSurface s;
+  s.kind_ = Kind::Sphere;
+  s.centre_ = centre;
+  s.radius_ = radius;
+  return s;
+}
+
+SmoothSurface SmoothSurface::cylinder(double radius, double z0, double z1) {
+  SmoothSurface s;
+  s.kind_ = Kind::Cylinder;
+  s.radius_ = radius;
+  s.z0_ = z0;
+  s.z1_ = z1;
+  return s;
+}
+
+SmoothSurface SmoothSurface::cone(double radius, double z0, double z1) {
+  SmoothSurface s;
+  s.kind_ = Kind::Cone;
+  s.radius_ = radius;
+  s.z0_ = z0;
+  s.z1_ = z1;
+  return s;
+}
+
+SmoothSurface SmoothSurface::transformed(const Transform& t) const {
+  if (kind_ == Kind::None) return *this;
+  if (!t.is_affine()) return SmoothSurface();
+  // Row convention p' = p·M: in column form p' = Mᵀ₃ₓ₃·p + (row 4).
+  const Eigen::Matrix3d step = t.matrix().topLeftCorner<3, 3>().transpose();
+  if (step.determinant() == 0) return SmoothSurface();
+  SmoothSurface s = *this;
+  s.linear_ = step * linear_;
+  s.offset_ = step * offset_ + t.matrix().row(3).head<3>().transpose();
+  s.inverse_ = s.linear_.inverse();
+  return s;
+}
+
+bool SmoothSurface::curved_face(const Vec3& outward) const {
+  switch (kind_) {
+    case Kind::None:
+      return false;
+    case Kind::Sphere:
+      return true;
+    case Kind::Cylinder:
+    case Kind::Cone: {
+      // Back to the primitive's frame: n_local ∝ linearᵀ · n_world.
+      const Vec3 local = (linear_.transpose() * outward).normalized();
+      if (kind_ == Kind::Cylinder) return std::abs(local.z()) < 0.5;  // caps: ±1, sides: 0
+      const double up = z1_ > z0_ ? 1.0 : -1.0;                       // towards the apex
+      return local.z() * up > -0.5;  // base: −1, sides: sin of the slope > 0
+    }
+  }
+  return false;
+}
+
+Vec3 SmoothSurface::local_normal(const Vec3& q, const Vec3& c) const {
+  switch (kind_) {
+    case Kind::Sphere: {
+      const Vec3 d = q - centre_;
+      return d.norm() > 0 ? Vec3(d.normalized()) : Vec3((c - centre_).normalized());
+    }
+    case Kind::Cylinder:
+    case Kind::Cone: {
+      // The normal depends only on the angle about the axis; on the axis (a cone's apex) the
+      // face's own angle stands in for it.
+      Eigen::Vector2d radial(q.x(), q.y());
+      if (radial.norm() <= 1e-12 * radius_) radial = Eigen::Vector2d(c.x(), c.y());
+      radial.normalize();
+      const double slope = kind_ == Kind::Cylinder ? 0.0 : radius_ / (z1_ - z0_);
+      return Vec3(radial.x(), radial.y(), slope).normalized();
+    }
+    case Kind::None:
+      break;
+  }
+  return Vec3::Zero();
+}
+
+Vec3 SmoothSurface::normal(const Vec3& p, const Vec3& face_centre) const {
+  const Vec3 q = inverse_ * (p - offset_);
+  const Vec3 c = inverse_ * (face_centre - offset_);
+  // Gradients map with the inverse transpose of the placement's linear part.
+  return (inverse_.transpose() * local_normal(q, c)).normalized();
+}
+
+}  // namespace hedra

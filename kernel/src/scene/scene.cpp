@@ -1,0 +1,52 @@
+#include "hedra/scene/scene.h"
+
+#include <cmath>
+
+#include "hedra/core/error.h"
+
+namespace hedra {
+
+void Material::validate() const {
+  auto fail = [](const std::string& m) { throw InvalidInput("material: " + m); };
+  if (!color.allFinite() || (color.array() < 0).any() || (color.array() > 1).any())
+    fail("'color' components must lie in [0, 1]");
+  for (double k : {ka, kd, ks})
+    if (!(k >= 0 && k <= 1)) fail("'ka', 'kd' and 'ks' must lie in [0, 1]");
+  if (!(shininess >= 0) || !std::isfinite(shininess)) fail("'shininess' must be >= 0");
+}
+
+SceneBody& Scene::add(const std::string& name, const Body& body, const Material& material) {
+  if (name.empty()) throw InvalidInput("a body needs a non-empty name");
+  if (contains(name)) throw InvalidInput("body name '" + name + "' is used twice");
+  material.validate();
+  bodies_.push_back({name, body, material, false, "", SmoothSurface()});
+  return bodies_.back();
+}
+
+bool Scene::contains(const std::string& name) const {
+  for (const SceneBody& b : bodies_)
+    if (b.name == name) return true;
+  return false;
+}
+
+const SceneBody& Scene::get(const std::string& name) const {
+  for (const SceneBody& b : bodies_)
+    if (b.name == name) return b;
+  throw InvalidInput("no body named '" + name + "'");
+}
+
+std::vector<const SceneBody*> Scene::visible_bodies() const {
+  std::vector<const SceneBody*> out;
+  for (const SceneBody& b : bodies_)
+    if (!b.hidden) out.push_back(&b);
+  return out;
+}
+
+Eigen::AlignedBox3d Scene::bbox() const {
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (const SceneBody* b : visible_bodies()) box.extend(b->body.bbox());
+  return box;
+}
+
+}  // namespace hedra

@@ -1,0 +1,454 @@
+// The exact parts of Roberts hidden-line removal (kernel/detail/roberts_exact.h): the course's
+// (t, a) oracle, the rational path for segments lying in an edge-on internal cut plane, and
+// junction lines. Numbers are CGAL::Mpzf (exact sums and products of doubles); points are
+// homogeneous (X, W) with W > 0, so a crossing of an input edge with an input plane is exact
+// without a division, and parameters are fractions compared by cross-multiplication.
+#include "visibility/roberts_exact.h"
+
+#include <CGAL/Gmpq.h>
+#include <CGAL/Mpzf.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "hedra/core/error.h"
+
+namespace hedra::detail {
+namespace {
+
+using Q = CGAL::Mpzf;
+
+int sgn(const Q& x) { return static_cast<int>(x.sign()); }
+
+// A plane f(X, W) = n·X + k·W, inner side positive, exactly the ExactPlane's affine function.
+struct HPlane {
+  std::array<Q, 3> n{Q(0), Q(0), Q(0)};
+  Q k{0};
+};
+
+// A point (X, W), W > 0.
+struct HPoint {
+  std::array<Q, 3> x{Q(0), Q(0), Q(0)};
+  Q w{1};
+};
+
+HPlane hplane(const ExactPlane& f) {
+  HPlane h;
+  if (f.by_points()) {
+    // f(p) = −det[b − a, c', p − a] = (p − a)·(c' × (b − a)), c' = c − a or the direction c.
+    const auto& p = f.points();
+    std::array<Q, 3> ba, ca;
+    for (int i = 0; i < 3; ++i) {
+      ba[i] = Q(p[1][i]) - Q(p[0][i]);
+      ca[i] = f.by_direction() ? Q(p[2][i]) : Q(p[2][i]) - Q(p[0][i]);
+    }
+    h.n[0] = ca[1] * ba[2] - ca[2] * ba[1];
+    h.n[1] = ca[2] * ba[0] - ca[0] * ba[2];
+    h.n[2] = ca[0] * ba[1] - ca[1] * ba[0];
+    h.k = Q(0) - (h.n[0] * Q(p[0][0]) + h.n[1] * Q(p[0][1]) + h.n[2] * Q(p[0][2]));
+  } else {
+    const Vec4& c = f.coefficients().coefficients;
+    for (int i = 0; i < 3; ++i) h.n[i] = Q(c[i]);
+    h.k = Q(c[3]);
+  }
+  if (f.negated()) {
+    for (Q& v : h.n) v = Q(0) - v;
+    h.k = Q(0) - h.k;
+  }
+  return h;
+}
+
+HPoint hpoint(const Vec3& p) {
+  HPoint h;
+  for (int i = 0; i < 3; ++i) h.x[i] = Q(p[i]);
+  h.w = Q(1);
+  return h;
+}
+
+// W·f(point): the sign of f at the point, since W > 0.
+Q eval(const HPlane& f, const HPoint& p) {
+  return f.n[0] * p.x[0] + f.n[1] * p.x[1] + f.n[2] * p.x[2] + f.k * p.w;
+}
+
+Q eval_direction(const HPlane& f, const Vec3& d) {
+  return f.n[0] * Q(d.x()) + f.n[1] * Q(d.y()) + f.n[2] * Q(d.z());
+}
+
+// g·V_j of the course: the value of plane j at the viewer vector g pointing to the viewer,
+// (−direction, 0) or (eye, 1).
+Q viewer_value(const HPlane& f, const Viewpoint& view) {
+  if (view.at_infinity) return Q(0) - eval_direction(f, view.direction);
+  return eval(f, hpoint(view.point));
+}
+
+// A parameter num/den on a segment, den > 0.
+struct Frac {
+  Q num{0}, den{1};
+};
+
+Frac frac(Q num, Q den) {
+  if (sgn(den) < 0) {
+    num = Q(0) - num;
+    den = Q(0) - den;
+  }
+  return {std::move(num), std::move(den)};
+}
+
+int cmp(const Frac& a, const Frac& b) { return sgn(a.num * b.den - b.num * a.den); }
+
+double to_double(const Q& num, const Q& den) {
+  // Through Gmpq: correctly rounded, and no overflow of the parts on their own.
+  return CGAL::to_double(CGAL::Gmpq(num) / CGAL::Gmpq(den));
+}
+
+double to_double(const Frac& f) { return to_double(f.num, f.den); }
+
+struct Interval {
+  Frac lo, hi;
+};
+
+// The open part of segment P1P2 strictly inside the convex set of `planes` (Cyrus–Beck with
+// every value exact). Values: v1 = F1/W1, v2 = F2/W2; a crossing at t = F1·W2 / (F1·W2 − F2·W1).
+std::optional<Interval> clip_open(std::span<const HPlane> planes, const HPoint& p1,
+                                  const HPoint& p2) {
+  Frac lo{Q(0), Q(1)}, hi{Q(1), Q(1)};
+  for (const HPlane& f : planes) {
+    const Q f1 = eval(f, p1), f2 = eval(f, p2);
+    const int s1 = sgn(f1), s2 = sgn(f2);
+    if (s1 <= 0 && s2 <= 0) return std::nullopt;  // outside, or on the plane: nothing strictly in
+    if (s1 > 0 && s2 > 0) continue;
+    const Q a = f1 * p2.w, b = f2 * p1.w;
+    const Frac t = frac(a, a - b);
+    if (s1 <= 0) {
+      if (cmp(t, lo) > 0) lo = t;
+    } else if (cmp(t, hi) < 0) {
+      hi = t;
+    }
+  }
+  if (cmp(lo, hi) >= 0) return std::nullopt;
+  return Interval{lo, hi};
+}
+
+// The course's brute force on constraints α + β·t + γ·a > 0 (with t ≥ 0, t ≤ 1, a ≥ 0 added):
+// intersect every pair of boundary lines, keep the intersections satisfying every constraint
+// (closed), and return (min t, max t) when they span a region of positive area.
+struct Constraint {
+  Q alpha, beta, gamma;
+};
+
+std::optional<Interval> brute_force(std::vector<Constraint> lines) {
+  lines.push_back({Q(0), Q(1), Q(0)});   // t ≥ 0
+  lines.push_back({Q(1), Q(-1), Q(0)});  // 1 − t ≥ 0
+  lines.push_back({Q(0), Q(0), Q(1)});   // a ≥ 0
+  // A constraint without t and a is a constant: it either always holds or empties the region.
+  std::vector<Constraint> kept;
+  for (Constraint& c : lines) {
+    if (sgn(c.beta) == 0 && sgn(c.gamma) == 0) {
+      if (sgn(c.alpha) <= 0) return std::nullopt;
+      continue;
+    }
+    kept.push_back(std::move(c));
+  }
+  struct Vertex {
+    Q t, a, d;  // (t, a) = (T/D, A/D), D > 0
+  };
+  std::vector<Vertex> feasible;
+  const size_t n = kept.size();
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) {
+      const Constraint &ci = kept[i], &cj = kept[j];
+      Q d = ci.beta * cj.gamma - cj.beta * ci.gamma;
+      if (sgn(d) == 0) continue;  // parallel boundary lines
+      Q t = cj.alpha * ci.gamma - ci.alpha * cj.gamma;
+      Q a = cj.beta * ci.alpha - ci.beta * cj.alpha;
+      if (sgn(d) < 0) {
+        d = Q(0) - d;
+        t = Q(0) - t;
+        a = Q(0) - a;
+      }
+      bool ok = true;
+      for (size_t k = 0; k < n && ok; ++k) {
+        const Constraint& c = kept[k];
+        ok = sgn(c.alpha * d + c.beta * t + c.gamma * a) >= 0;
+      }
+      if (ok) feasible.push_back({std::move(t), std::move(a), std::move(d)});
+    }
+  }
+  if (feasible.size() < 3) return std::nullopt;
+  // Positive area: three feasible vertices not on one line.
+  const Vertex& v0 = feasible[0];
+  const Vertex* v1 = nullptr;
+  bool area = false;
+  for (const Vertex& v : feasible) {
+    if (!v1) {
+      if (sgn(v.t * v0.d - v0.t * v.d) != 0 || sgn(v.a * v0.d - v0.a * v.d) != 0) v1 = &v;
+      continue;
+    }
+    const Q det = v0.t * (v1->a * v.d - v.a * v1->d) - v0.a * (v1->t * v.d - v.t * v1->d) +
+                  v0.d * (v1->t * v.a - v.t * v1->a);
+    if (sgn(det) != 0) {
+      area = true;
+      break;
+    }
+  }
+  if (!area) return std::nullopt;
+  Frac lo{feasible[0].t, feasible[0].d}, hi = lo;
+  for (const Vertex& v : feasible) {
+    const Frac f{v.t, v.d};
+    if (cmp(f, lo) < 0) lo = f;
+    if (cmp(f, hi) > 0) hi = f;
+  }
+  return Interval{lo, hi};
+}
+
+// The (t, a) system of a convex set (planes) for segment P1P2, scaled by W1·W2 > 0:
+// h_j(P(t)) = v1 + t·(v2 − v1) with v = F/W, and the viewer term a·g·V_j.
+std::optional<Interval> hidden_brute_force(std::span<const HPlane> planes, const Viewpoint& view,
+                                           const HPoint& p1, const HPoint& p2) {
+  std::vector<Constraint> lines;
+  lines.reserve(planes.size() + 3);
+  const Q w12 = p1.w * p2.w;
+  for (const HPlane& f : planes) {
+    const Q a = eval(f, p1) * p2.w, b = eval(f, p2) * p1.w;
+    lines.push_back({a, b - a, viewer_value(f, view) * w12});
+  }
+  return brute_force(std::move(lines));
+}
+
+std::vector<HPlane> hplanes(std::span<const ExactPlane> planes) {
+  std::vector<HPlane> out;
+  out.reserve(planes.size());
+  for (const ExactPlane& f : planes) out.push_back(hplane(f));
+  return out;
+}
+
+// The visible parts of P1P2 (fractions) against the candidates, exactly.
+std::vector<Interval> visible_fracs(const HPoint& p1, const HPoint& p2, const Candidates& cand,
+                                    const Viewpoint& view, bool brute) {
+  std::vector<Interval> hidden;
+  for (const PieceOccluder* o : cand.pieces) {
+    std::optional<Interval> part;
+    if (brute) {
+      part = hidden_brute_force(hplanes(*o->faces), view, p1, p2);
+    } else {
+      if (!o->volume) continue;
+      part = clip_open(hplanes(o->volume->planes()), p1, p2);
+    }
+    if (part) hidden.push_back(std::move(*part));
+  }
+  for (const FacetOccluder* f : cand.facets) {
+    const HPlane c = hplane(f->plane);
+    if (sgn(eval(c, p1)) != 0 || sgn(eval(c, p2)) != 0) continue;  // not in the facet's plane
+    if (auto part = hidden_brute_force(hplanes(f->bounds), view, p1, p2))
+      hidden.push_back(std::move(*part));
+  }
+  std::sort(hidden.begin(), hidden.end(),
+            [](const Interval& a, const Interval& b) { return cmp(a.lo, b.lo) < 0; });
+  // Complement of the union; hidden parts that touch leave no visible point.
+  std::vector<Interval> visible;
+  Frac from{Q(0), Q(1)};
+  for (const Interval& h : hidden) {
+    if (cmp(h.lo, from) > 0) visible.push_back({from, h.lo});
+    if (cmp(h.hi, from) > 0) from = h.hi;
+  }
+  const Frac one{Q(1), Q(1)};
+  if (cmp(from, one) < 0) visible.push_back({from, one});
+  return visible;
+}
+
+// Exact point of P1P2 at t = N/D, rounded: ((D − N)·W2·X1 + N·W1·X2) / (W1·W2·D).
+Vec3 point_at(const HPoint& p1, const HPoint& p2, const Frac& t) {
+  const Q c1 = (t.den - t.num) * p2.w, c2 = t.num * p1.w, w = p1.w * p2.w * t.den;
+  Vec3 out;
+  for (int i = 0; i < 3; ++i) out[i] = to_double(c1 * p1.x[i] + c2 * p2.x[i], w);
+  return out;
+}
+
+Vec3 rounded(const HPoint& p) {
+  Vec3 out;
+  for (int i = 0; i < 3; ++i) out[i] = to_double(p.x[i], p.w);
+  return out;
+}
+
+// ---- Junction lines ----
+
+// Order of two points of the junction line along its coordinate `axis`.
+int cmp_along(const HPoint& a, const HPoint& b, int axis) {
+  return sgn(a.x[axis] * b.w - b.x[axis] * a.w);
+}
+
+struct Span {
+  HPoint lo, hi;  // lo before hi along the axis
+};
+
+// Closure of L ∩ relint(face), L = face plane ∩ plane g, as sorted disjoint spans. The line is
+// pushed infinitesimally to the negative side of g (vertices on g count as positive), so its
+// crossings with the face's loops alternate in and out; boundary edges lying on L are removed.
+std::vector<Span> face_spans(const Body& body, int face, const ExactPlane& g, const HPlane& hg,
+                             int axis) {
+  const auto& v = body.vertices();
+  std::vector<HPoint> crossings;
+  std::vector<Span> on_line;
+  for (const auto& loop : body.faces()[static_cast<size_t>(face)].loops) {
+    const size_t m = loop.size();
+    std::vector<Sign> side(m);
+    for (size_t i = 0; i < m; ++i) side[i] = side_of_plane(g, v[static_cast<size_t>(loop[i])]);
+    for (size_t i = 0; i < m; ++i) {
+      const size_t j = (i + 1) % m;
+      const Vec3 &u = v[static_cast<size_t>(loop[i])], &w = v[static_cast<size_t>(loop[j])];
+      const Sign su = side[i], sw = side[j];
+      if (su == Sign::Zero && sw == Sign::Zero) {
+        HPoint a = hpoint(u), b = hpoint(w);
+        if (cmp_along(a, b, axis) > 0) std::swap(a, b);
+        on_line.push_back({a, b});
+        continue;
+      }
+      if ((su != Sign::Negative) == (sw != Sign::Negative)) continue;
+      if (su == Sign::Zero) {
+        crossings.push_back(hpoint(u));
+      } else if (sw == Sign::Zero) {
+        crossings.push_back(hpoint(w));
+      } else {
+        // u + (w − u)·g(u)/(g(u) − g(w)) = (w·g(u) − u·g(w)) / (g(u) − g(w)).
+        const HPoint hu = hpoint(u), hw = hpoint(w);
+        const Q gu = eval(hg, hu), gw = eval(hg, hw);
+        HPoint x;
+        for (int k = 0; k < 3; ++k) x.x[k] = hw.x[k] * gu - hu.x[k] * gw;
+        x.w = gu - gw;
+        if (sgn(x.w) < 0) {
+          for (Q& c : x.x) c = Q(0) - c;
+          x.w = Q(0) - x.w;
+        }
+        crossings.push_back(std::move(x));
+      }
+    }
+  }
+  if (crossings.size() % 2 != 0)
+    throw std::logic_error("junction lines: odd number of crossings of a face boundary");
+  std::sort(crossings.begin(), crossings.end(),
+            [axis](const HPoint& a, const HPoint& b) { return cmp_along(a, b, axis) < 0; });
+  std::vector<Span> spans;
+  for (size_t i = 0; i + 1 < crossings.size(); i += 2)
+    if (cmp_along(crossings[i], crossings[i + 1], axis) < 0)
+      spans.push_back({crossings[i], crossings[i + 1]});
+  // Remove the boundary edges lying on L: there L touches the face without entering it.
+  for (const Span& cut : on_line) {
+    std::vector<Span> next;
+    for (Span& s : spans) {
+      if (cmp_along(cut.hi, s.lo, axis) <= 0 || cmp_along(cut.lo, s.hi, axis) >= 0) {
+        next.push_back(std::move(s));
+        continue;
+      }
+      if (cmp_along(s.lo, cut.lo, axis) < 0) next.push_back({s.lo, cut.lo});
+      if (cmp_along(cut.hi, s.hi, axis) < 0) next.push_back({cut.hi, s.hi});
+    }
+    spans = std::move(next);
+  }
+  return spans;
+}
+
+Eigen::AlignedBox3d face_box(const Body& body, int face) {
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (int i : body.faces()[static_cast<size_t>(face)].loops[0]) box.extend(body.vertices()[static_cast<size_t>(i)]);
+  return box;
+}
+
+}  // namespace
+
+Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  std::array<Q, 3> u, v, w;
+  for (int i = 0; i < 3; ++i) {
+    u[i] = Q(b[i]) - Q(a[i]);
+    v[i] = Q(c[i]) - Q(a[i]);
+    w[i] = Q(d[i]);
+  }
+  const Q det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                u[2] * (v[0] * w[1] - v[1] * w[0]);
+  return static_cast<Sign>(sgn(det));
+}
+
+bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d) {
+  const Q e[3] = {Q(b.x()) - Q(a.x()), Q(b.y()) - Q(a.y()), Q(b.z()) - Q(a.z())};
+  const Q f[3] = {Q(d.x()), Q(d.y()), Q(d.z())};
+  return sgn(e[1] * f[2] - e[2] * f[1]) == 0 && sgn(e[2] * f[0] - e[0] * f[2]) == 0 &&
+         sgn(e[0] * f[1] - e[1] * f[0]) == 0;
+}
+
+std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
+    std::span<const ExactPlane> planes, const Viewpoint& view, const Vec3& p1, const Vec3& p2) {
+  const std::vector<HPlane> h = hplanes(planes);
+  const auto part = hidden_brute_force(h, view, hpoint(p1), hpoint(p2));
+  if (!part) return std::nullopt;
+  return std::make_pair(to_double(part->lo), to_double(part->hi));
+}
+
+std::vector<std::pair<double, double>> visible_parts_exact(const Vec3& p1, const Vec3& p2,
+                                                           const Candidates& candidates,
+                                                           const Viewpoint& view,
+                                                           bool brute_force) {
+  std::vector<std::pair<double, double>> out;
+  for (const Interval& v : visible_fracs(hpoint(p1), hpoint(p2), candidates, view, brute_force))
+    out.emplace_back(to_double(v.lo), to_double(v.hi));
+  return out;
+}
+
+std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
+                                         const std::vector<ExactPlane>& planes_a,
+                                         const std::vector<ExactPlane>& planes_b,
+                                         const Viewpoint& view, const CandidateQuery& query,
+                                         bool brute, int& found) {
+  std::vector<JunctionPart> out;
+  std::vector<Eigen::AlignedBox3d> boxes_b;
+  for (int fb = 0; fb < b.face_count(); ++fb) boxes_b.push_back(face_box(b, fb));
+  Candidates candidates;
+  for (int fa = 0; fa < a.face_count(); ++fa) {
+    const Eigen::AlignedBox3d box_a = face_box(a, fa);
+    if (!box_a.intersects(b.bbox())) continue;
+    const HPlane ha = hplane(planes_a[static_cast<size_t>(fa)]);
+    for (int fb = 0; fb < b.face_count(); ++fb) {
+      if (!box_a.intersects(boxes_b[static_cast<size_t>(fb)])) continue;
+      const HPlane hb = hplane(planes_b[static_cast<size_t>(fb)]);
+      // Direction of L = na × nb; parallel planes have no junction line.
+      const Q dir[3] = {ha.n[1] * hb.n[2] - ha.n[2] * hb.n[1], ha.n[2] * hb.n[0] - ha.n[0] * hb.n[2],
+                        ha.n[0] * hb.n[1] - ha.n[1] * hb.n[0]};
+      int axis = -1;
+      double best = 0;
+      for (int k = 0; k < 3; ++k) {
+        if (sgn(dir[k]) == 0) continue;
+        const double m = std::abs(CGAL::to_double(dir[k]));
+        if (axis < 0 || m > best) axis = k, best = m;
+      }
+      if (axis < 0) continue;
+      const std::vector<Span> sa = face_spans(a, fa, planes_b[static_cast<size_t>(fb)], hb, axis);
+      if (sa.empty()) continue;
+      const std::vector<Span> sb = face_spans(b, fb, planes_a[static_cast<size_t>(fa)], ha, axis);
+      // Intersection of the two sorted span lists.
+      size_t i = 0, j = 0;
+      while (i < sa.size() && j < sb.size()) {
+        const HPoint& lo = cmp_along(sa[i].lo, sb[j].lo, axis) >= 0 ? sa[i].lo : sb[j].lo;
+        const bool a_first = cmp_along(sa[i].hi, sb[j].hi, axis) <= 0;
+        const HPoint& hi = a_first ? sa[i].hi : sb[j].hi;
+        if (cmp_along(lo, hi, axis) < 0) {
+          ++found;
+          const Vec3 ra = rounded(lo), rb = rounded(hi);
+          candidates.pieces.clear();
+          candidates.facets.clear();
+          query(ra, rb, fa, fb, candidates);
+          for (const Interval& v : visible_fracs(lo, hi, candidates, view, brute)) {
+            JunctionPart part{point_at(lo, hi, v.lo), point_at(lo, hi, v.hi)};
+            if (part.a != part.b) out.push_back(part);
+          }
+        }
+        if (a_first)
+          ++i;
+        else
+          ++j;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace hedra::detail

@@ -1,0 +1,81 @@
+// Internals of kernel/roberts: the parts computed in exact arithmetic (CGAL::Mpzf on
+// homogeneous points), kept in one translation unit (kernel/roberts_exact.cpp).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "hedra/core/body.h"
+#include "hedra/clip/convex_clipper.h"
+#include "hedra/visibility/occlusion.h"
+
+namespace hedra::detail {
+
+/// A convex piece as an occluder: its open occlusion volume (fast path) and its face planes
+/// (the brute-force path), both exact planes.
+struct PieceOccluder {
+  int body = -1;
+  const ConvexClipper* volume = nullptr;      // null: hides nothing (no front face)
+  const std::vector<ExactPlane>* faces = nullptr;
+};
+
+/// An internal facet of a non-convex body seen edge-on: two pieces P, Q of one body touch along
+/// a cut plane C that contains the viewpoint (or the view direction). A ray lying in C can pass
+/// through the body's interior only across that facet, which neither piece's open occlusion
+/// volume sees. For points of C, the region hidden by the facet is the region hidden by the
+/// convex set `bounds` (the planes of P and Q other than their faces on C), since within C it
+/// is the facet itself. Decided with the (t, a) system, exactly.
+struct FacetOccluder {
+  int body = -1;
+  ExactPlane plane;                 // C
+  std::vector<ExactPlane> bounds;   // faces of P and Q except those on C
+};
+
+/// Occluders a segment must be tested against (from the caller's spatial index).
+struct Candidates {
+  std::vector<const PieceOccluder*> pieces;
+  std::vector<const FacetOccluder*> facets;
+};
+
+/// Visible parts [t0, t1] (t rounded, ascending, positive length) of segment p1p2 against the
+/// candidates, every decision and every intermediate value exact: hidden parts are the open
+/// parts strictly inside each piece's occlusion volume (or, with `brute_force`, the course's
+/// (t, a) solution on the piece's faces) and, for a segment lying in a facet's plane C, the
+/// facet's hidden part; touching hidden parts join.
+std::vector<std::pair<double, double>> visible_parts_exact(const Vec3& p1, const Vec3& p2,
+                                                           const Candidates& candidates,
+                                                           const Viewpoint& view,
+                                                           bool brute_force);
+
+/// The (t, a) oracle for one convex set given by inner-oriented exact planes: the open hidden
+/// interval, rounded, or nullopt.
+std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
+    std::span<const ExactPlane> planes, const Viewpoint& view, const Vec3& p1, const Vec3& p2);
+
+/// Exact sign of det[b − a, c − a, d] (orient3d with the direction d in place of d − a).
+Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// True when d is parallel to b − a (exactly; d ≠ 0).
+bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d);
+
+/// The visible parts of the junction lines of two bodies A and B: the closure of the points
+/// lying in the relative interior of a face of A and of a face of B whose planes cross. End
+/// points (crossings of edges with face planes: the course's penetration points) are exact
+/// homogeneous points; visibility is decided by `query`'s candidates as in
+/// visible_parts_exact. `found` counts junction segments before visibility.
+struct JunctionPart {
+  Vec3 a, b;
+};
+/// Candidates for a junction segment a–b lying on face fa of the first body and fb of the second.
+using CandidateQuery =
+    std::function<void(const Vec3& a, const Vec3& b, int fa, int fb, Candidates& out)>;
+std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
+                                         const std::vector<ExactPlane>& planes_a,
+                                         const std::vector<ExactPlane>& planes_b,
+                                         const Viewpoint& view, const CandidateQuery& query,
+                                         bool brute_force, int& found);
+
+}  // namespace hedra::detail

@@ -1,0 +1,161 @@
+// The hedra command end to end: exit codes, one-line errors, output files.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <unistd.h>
+#include <nlohmann/json.hpp>
+
+#include "testing/cli_run.h"
+#include "testing/bad_files.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using Result = hedra::testing::CliResult;
+
+Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
+
+fs::path temp_dir(const char* name) {
+  fs::path d = fs::temp_directory_path() / (std::string("hedra_cli_") + name);
+  fs::create_directories(d);
+  return d;
+}
+
+TEST(Cli, DemoPrintsTheInfoTable) {
+  Result r = run("demo");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("ground"), std::string::npos);
+  EXPECT_NE(r.out.find("pyramid"), std::string::npos);
+  EXPECT_NE(r.out.find("body matrix of L"), std::string::npos);
+}
+
+TEST(Cli, InfoJsonOnAnLPrism) {
+  const fs::path dir = temp_dir("info");
+  {
+    std::ofstream f(dir / "l.obj");
+    f << "v 0 0 0\nv 4 0 0\nv 4 1 0\nv 1 1 0\nv 1 3 0\nv 0 3 0\n"
+         "v 0 0 2\nv 4 0 2\nv 4 1 2\nv 1 1 2\nv 1 3 2\nv 0 3 2\n"
+         "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n"
+         "f 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\n";
+  }
+  Result r = run("info --json " + (dir / "l.obj").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  const auto& b = j["bodies"][0];
+  EXPECT_EQ(b["name"], "l");
+  EXPECT_EQ(b["vertices"], 12);
+  EXPECT_EQ(b["edges"], 18);
+  EXPECT_EQ(b["faces"], 8);
+  EXPECT_EQ(b["closed"], true);
+  EXPECT_EQ(b["volume"], 12.0);
+  EXPECT_EQ(b["area"], 40.0);
+  EXPECT_EQ(b["convex"], false);
+  EXPECT_EQ(b["nonconvex_faces"], nlohmann::json({4, 5}));
+  EXPECT_EQ(b["matrix"].size(), 8u);
+}
+
+// `hedra info` on a scene file: every visible body (hidden Boolean operands left out), and for
+// each curved one how many faces it got and why.
+TEST(Cli, InfoOnASceneFileReportsEveryBodyAndItsLevelOfDetail) {
+  const std::string scene = std::string(HEDRA_SOURCE_DIR) + "/examples/city-block.json";
+  Result r = run("info --json " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  ASSERT_EQ(j["bodies"].size(), 11u);
+  std::map<std::string, nlohmann::json> by_name;
+  for (const auto& b : j["bodies"]) by_name[b["name"].get<std::string>()] = b;
+  EXPECT_EQ(by_name.count("blockA"), 0u);
+  EXPECT_EQ(by_name["cut"]["volume"], 6.0 * 6 * 4 - 4 * 4 * 2);
+  EXPECT_EQ(by_name["s"]["faces"], 512);
+  EXPECT_NE(by_name["s"]["lod"].get<std::string>().find("512 faces"), std::string::npos) << by_name["s"];
+  EXPECT_NE(by_name["tower"]["lod"].get<std::string>().find("pixel_tolerance 0.5 px"), std::string::npos);
+  r = run("info " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("level of detail:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  tower: "), std::string::npos) << r.out;
+}
+
+TEST(Cli, ConvertThenInfo) {
+  const fs::path dir = temp_dir("convert");
+  {
+    std::ofstream f(dir / "cube.off");
+    f << hedra::testing::cube_off_with("1 1 -1");
+  }
+  Result r = run("convert " + (dir / "cube.off").string() + " " + (dir / "cube.stl").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("info --json " + (dir / "cube.stl").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["bodies"][0]["faces"], 6);
+  EXPECT_EQ(j["bodies"][0]["volume"], 8.0);
+}
+
+TEST(Cli, BadInputExitsWithThreeAndOneLine) {
+  const fs::path dir = temp_dir("bad");
+  hedra::testing::write_bad_files(dir);
+  for (const auto& bad : hedra::testing::bad_files()) {
+    const fs::path path = dir / bad.name;
+    Result r = run("info " + path.string());
+    EXPECT_EQ(r.code, 3) << bad.name << ": " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(path.string()), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(bad.expected), std::string::npos) << bad.name << ": " << r.err;
+    // convert must not leave an output behind
+    const fs::path out = dir / (bad.name + ".out.off");
+    r = run("convert " + path.string() + " " + out.string());
+    EXPECT_EQ(r.code, 3);
+    EXPECT_FALSE(fs::exists(out));
+  }
+}
+
+TEST(Cli, DecomposeJsonAndPieceFiles) {
+  const fs::path dir = temp_dir("decompose");
+  {
+    std::ofstream f(dir / "l.obj");
+    f << "v 0 0 0\nv 4 0 0\nv 4 1 0\nv 1 1 0\nv 1 3 0\nv 0 3 0\n"
+         "v 0 0 2\nv 4 0 2\nv 4 1 2\nv 1 1 2\nv 1 3 2\nv 0 3 2\n"
+         "f 6 5 4 3 2 1\nf 7 8 9 10 11 12\n"
+         "f 1 2 8 7\nf 2 3 9 8\nf 3 4 10 9\nf 4 5 11 10\nf 5 6 12 11\nf 6 1 7 12\n";
+  }
+  fs::remove_all(dir / "pieces");
+  Result r = run("decompose --json " + (dir / "l.obj").string() + " -o " + (dir / "pieces").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["method"], "planes");
+  EXPECT_EQ(j["pieces"], 2);
+  EXPECT_EQ(j["input_volume"], 12.0);
+  EXPECT_EQ(j["pieces_volume"], 12.0);
+  EXPECT_EQ(j["all_convex"], true);
+  EXPECT_TRUE(j["ms"].is_number());
+  EXPECT_TRUE(fs::exists(dir / "pieces" / "piece_000.off"));
+  EXPECT_TRUE(fs::exists(dir / "pieces" / "piece_001.off"));
+  r = run("info --json " + (dir / "pieces" / "piece_001.off").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["bodies"][0]["convex"], true);
+  EXPECT_EQ(run("decompose --method nonsense " + (dir / "l.obj").string()).code, 3);
+#ifdef HEDRA_HAVE_TETGEN
+  // TetGen's 12 tetrahedra, merged: fewer convex pieces, same volume.
+  r = run("decompose --json --method tetgen --merge " + (dir / "l.obj").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_LE(j["pieces"].get<int>(), 6);
+  EXPECT_GE(j["merged"].get<int>(), 6);
+  EXPECT_EQ(j["all_convex"], true);
+  EXPECT_NEAR(j["pieces_volume"].get<double>(), 12.0, 1e-12);
+#endif
+}
+
+TEST(Cli, UsageErrorsExitWithTwo) {
+  EXPECT_EQ(run("").code, 2);
+  EXPECT_EQ(run("info").code, 2);
+  EXPECT_EQ(run("frobnicate").code, 2);
+  EXPECT_EQ(run("info /nonexistent/file.off").code, 3);
+}
+
+}  // namespace

@@ -1,0 +1,116 @@
+// ExactPlane and its predicates (kernel/predicates.h): the double evaluation stays within its
+// bound, and the exact predicates agree with rational arithmetic.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "testing/clip_fixtures.h"
+#include "hedra/core/error.h"
+#include "hedra/core/predicates.h"
+#include "hedra/core/primitives.h"
+
+namespace hedra {
+namespace {
+
+using testing::Rational;
+
+Sign sign_of(const Rational& q) {
+  return q > 0 ? Sign::Positive : (q < 0 ? Sign::Negative : Sign::Zero);
+}
+
+// F = f / 2^e: the double form's scale, recovered from a point where f is far from zero.
+Rational scaled_exact(const ExactPlane& f, const Vec3& p, const Rational& scale) {
+  return testing::exact_value(f, p) / scale;
+}
+
+TEST(ExactPlane, ValueStaysWithinItsBound) {
+  std::mt19937_64 rng(4);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 40; ++k) {
+    const double scale = std::pow(10.0, k % 10 * 3 - 12);  // 1e-12 … 1e15
+    const Vec3 a = scale * Vec3(u(rng), u(rng), u(rng)), b = scale * Vec3(u(rng), u(rng), u(rng)),
+               c = scale * Vec3(u(rng), u(rng), u(rng));
+    const ExactPlane by_points = ExactPlane::through(a, b, c);
+    const ExactPlane by_coefficients =
+        ExactPlane::from_coefficients(Plane(u(rng), u(rng), u(rng), scale * u(rng)));
+    for (const ExactPlane& f : {by_points, by_coefficients, by_points.flipped()}) {
+      // The power of two between f and its double form: exact ratio at a far point.
+      const Vec3 far = a + 1e3 * scale * f.normal().normalized();
+      const Rational ratio = testing::exact_value(f, far) / Rational(f.value(far));
+      const double two_power = std::exp2(std::round(std::log2(testing::to_double(ratio))));
+      for (int i = 0; i < 200; ++i) {
+        const Vec3 p = i % 2 ? Vec3(scale * Vec3(u(rng), u(rng), u(rng)))
+                             : Vec3(a + u(rng) * (b - a) + u(rng) * (c - a));  // near the plane
+        const double m = p.cwiseAbs().maxCoeff();
+        const Rational exact = scaled_exact(f, p, Rational(two_power));
+        EXPECT_LE(testing::to_double(CGAL::abs(Rational(f.value(p)) - exact)), f.error_bound(m));
+        EXPECT_EQ(side_of_plane(f, p), sign_of(exact));
+      }
+    }
+  }
+}
+
+TEST(ExactPlane, FacesOfABodyAgreeWithFaceSide) {
+  const Body b = testing::icosahedron(3).rotated_x(17);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-4, 4);
+  for (int f = 0; f < b.face_count(); ++f) {
+    const auto& s = b.support(f);
+    const ExactPlane plane =
+        ExactPlane::through(b.vertices()[s[0]], b.vertices()[s[1]], b.vertices()[s[2]]);
+    for (const Vec3& v : b.vertices()) EXPECT_EQ(side_of_plane(plane, v), b.face_side(f, v));
+    for (int i = 0; i < 50; ++i) {
+      const Vec3 p(u(rng), u(rng), u(rng));
+      EXPECT_EQ(side_of_plane(plane, p), b.face_side(f, p));
+      EXPECT_EQ(side_of_plane(plane.flipped(), p), -b.face_side(f, p));
+    }
+  }
+  // Coefficient planes decide as side_of_plane(Plane) does.
+  const Plane q(1, 1, 1, -1);
+  const ExactPlane e = ExactPlane::from_coefficients(q);
+  for (double z : {0.25, std::nextafter(0.25, 1.0), std::nextafter(0.25, 0.0)})
+    EXPECT_EQ(side_of_plane(e, Vec3(0.5, 0.25, z)), side_of_plane(q, Vec3(0.5, 0.25, z)));
+}
+
+TEST(ExactPlane, CompareCrossingsIsExact) {
+  std::mt19937_64 rng(6);
+  std::uniform_real_distribution<double> u(-1, 1);
+  // Planes through a common line: a segment through that line crosses both at the same point.
+  const Vec3 a(0.125, 0.25, 0.375), b(0.7, -0.4, 0.9);
+  const ExactPlane f = ExactPlane::through(a, b, {1, 1, 1});
+  const ExactPlane g = ExactPlane::through(a, b, {-1, 2, 0.5});
+  const Vec3 p(-3, -3, -3), q = 2 * a - p;  // through a, exactly (dyadic coordinates)
+  EXPECT_EQ(compare_crossings(f, g, p, q), Sign::Zero);
+  EXPECT_EQ(compare_crossings(f, g, p, q + Vec3(0, 0, 1e-12)),
+            -compare_crossings(g, f, p, q + Vec3(0, 0, 1e-12)));
+  int decided = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const ExactPlane f1 = ExactPlane::from_coefficients(Plane(u(rng), u(rng), u(rng), u(rng)));
+    const ExactPlane f2 = ExactPlane::through(
+        Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 s(u(rng), u(rng), u(rng)), t(u(rng), u(rng), u(rng));
+    const Rational w1 = testing::exact_value(f1, s), e1 = testing::exact_value(f1, t);
+    const Rational w2 = testing::exact_value(f2, s), e2 = testing::exact_value(f2, t);
+    if (w1 == e1 || w2 == e2) continue;
+    EXPECT_EQ(compare_crossings(f1, f2, s, t), sign_of(w1 / (w1 - e1) - w2 / (w2 - e2)));
+    // Along an axis: the exact crossing points' coordinates.
+    const Vec3 r(u(rng), u(rng), u(rng)), v(u(rng), u(rng), u(rng));
+    const Rational wr = testing::exact_value(f1, r), ev = testing::exact_value(f1, v);
+    if (wr == ev) continue;
+    const int axis = i % 3;
+    const Rational x1 = Rational(s[axis]) + (Rational(t[axis]) - s[axis]) * (w1 / (w1 - e1));
+    const Rational x2 = Rational(r[axis]) + (Rational(v[axis]) - r[axis]) * (wr / (wr - ev));
+    EXPECT_EQ(compare_crossings_along(f1, s, t, r, v, axis), sign_of(x1 - x2));
+    ++decided;
+  }
+  EXPECT_GT(decided, 2000);
+}
+
+TEST(ExactPlane, BadPlanes) {
+  EXPECT_THROW(ExactPlane::through({0, 0, 0}, {1, 1, 1}, {2, 2, 2}), InvalidInput);
+  EXPECT_THROW(ExactPlane::from_coefficients(Plane(0, 0, 0, 1)), InvalidInput);
+  EXPECT_THROW(ExactPlane::from_coefficients(Plane(NAN, 0, 1, 1)), InvalidInput);
+}
+
+}  // namespace
+}  // namespace hedra

@@ -1,0 +1,236 @@
+#include "hedra/core/body.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "hedra/core/error.h"
+#include "hedra/core/primitives.h"
+
+namespace hedra {
+namespace {
+
+std::string error_of(std::vector<Vec3> v, std::vector<Face> f) {
+  try {
+    Body b(std::move(v), std::move(f));
+  } catch (const InvalidInput& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::vector<Vec3> cube_vertices() {
+  std::vector<Vec3> v;
+  for (int i = 0; i < 8; ++i) v.emplace_back(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+  return v;
+}
+std::vector<Face> cube_faces() {
+  return {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+}
+
+TEST(Body, CourseCubeMatrix) {
+  Body cube = box({-1, -1, -1}, {1, 1, 1});
+  BodyMatrix expected(4, 6);
+  // Columns (1,0,0,1) (−1,0,0,1) (0,1,0,1) (0,−1,0,1) (0,0,1,1) (0,0,−1,1).
+  expected << 1, -1, 0, 0, 0, 0,
+              0, 0, 1, -1, 0, 0,
+              0, 0, 0, 0, 1, -1,
+              1, 1, 1, 1, 1, 1;
+  EXPECT_EQ(cube.matrix(), expected);
+  // S = (0,0,0,1) gives all positive values.
+  EXPECT_TRUE(((Vec4(0, 0, 0, 1).transpose() * cube.matrix()).array() > 0).all());
+  // The course's signing by the vertex average gives the same matrix, also from flipped columns.
+  EXPECT_EQ(sign_by_interior_point(-cube.matrix(), Vec3::Zero()), expected);
+}
+
+TEST(Body, CountsAndMeasures) {
+  Body cube = box({-1, -1, -1}, {1, 1, 1});
+  EXPECT_EQ(cube.vertex_count(), 8);
+  EXPECT_EQ(cube.edge_count(), 12);
+  EXPECT_EQ(cube.face_count(), 6);
+  EXPECT_EQ(cube.volume(), 8);
+  EXPECT_EQ(cube.area(), 24);
+  EXPECT_LT(cube.centroid().norm(), 1e-15);
+  EXPECT_EQ(cube.bbox().min(), Vec3(-1, -1, -1));
+  for (const Edge& e : cube.edges()) EXPECT_NE(e.left_face, e.right_face);
+}
+
+TEST(Body, Classify) {
+  Body cube = box({-1, -1, -1}, {1, 1, 1});
+  EXPECT_EQ(cube.classify({0, 0, 0}), Location::Inside);
+  EXPECT_EQ(cube.classify({1, 0, 0}), Location::OnBoundary);
+  EXPECT_EQ(cube.classify({1, 1, 1}), Location::OnBoundary);   // vertex
+  EXPECT_EQ(cube.classify({1, 1, 0.3}), Location::OnBoundary); // edge
+  EXPECT_EQ(cube.classify({std::nextafter(1.0, 2.0), 0, 0}), Location::Outside);
+  EXPECT_EQ(cube.classify({std::nextafter(1.0, 0.0), 0, 0}), Location::Inside);
+  // Non-convex: the notch of an L prism is outside; a point level with a reflex edge inside.
+  Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
+  EXPECT_EQ(l.classify({2, 2, 1}), Location::Outside);
+  EXPECT_EQ(l.classify({0.5, 2, 1}), Location::Inside);
+  EXPECT_EQ(l.classify({1, 1, 1}), Location::OnBoundary);   // on the reflex edge
+  EXPECT_EQ(l.classify({0.5, 0.5, 1}), Location::Inside);   // rays from here hit edges often
+}
+
+TEST(Body, ClassifyAgainstBruteForceGrid) {
+  // Plate with a hole: compare with the closed-form membership on a grid that hits
+  // faces, edges and vertices exactly.
+  Body plate = prism({{0, 0}, {4, 0}, {4, 4}, {0, 4}}, 0, 1, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}});
+  for (int i = -1; i <= 9; ++i)
+    for (int j = -1; j <= 9; ++j)
+      for (int k = -1; k <= 3; ++k) {
+        Vec3 p(i * 0.5, j * 0.5, k * 0.5);
+        auto in_square = [](double x, double y, double lo, double hi, bool open) {
+          return open ? (x > lo && x < hi && y > lo && y < hi)
+                      : (x >= lo && x <= hi && y >= lo && y <= hi);
+        };
+        bool closed = in_square(p.x(), p.y(), 0, 4, false) && p.z() >= 0 && p.z() <= 1 &&
+                      !in_square(p.x(), p.y(), 1, 3, true);
+        bool open = in_square(p.x(), p.y(), 0, 4, true) && p.z() > 0 && p.z() < 1 &&
+                    !in_square(p.x(), p.y(), 1, 3, false);
+        Location expected = open ? Location::Inside
+                                 : (closed ? Location::OnBoundary : Location::Outside);
+        EXPECT_EQ(plate.classify(p), expected) << p.transpose();
+      }
+}
+
+TEST(Body, TransformedMatrixKeepsInteriorPositive) {
+  Body cube = box({-1, -1, -1}, {1, 1, 1});
+  Transform t = Transform::rotation({1, 2, 3}, 27, {0.5, 0, 0}) * Transform::translation({4, 5, 6});
+  Body moved = cube.transformed(t);
+  Vec3 interior = t.apply(Vec3(0.2, -0.3, 0.4));
+  BodyMatrix vt = t.apply(cube.matrix());  // [T]⁻¹[V]
+  EXPECT_TRUE(((interior.homogeneous().transpose() * vt).array() > 0).all());
+  // Column for column, [T]⁻¹[V] is the moved body's matrix (both have unit normals here).
+  EXPECT_LT((vt - moved.matrix()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(moved.volume(), 8, 1e-12);
+  EXPECT_EQ(moved.classify(interior), Location::Inside);
+}
+
+TEST(Body, ReflectionKeepsFacesOutward) {
+  Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
+  Body mirrored = l.transformed(Transform::scaling(Vec3(-1, 1, 1)));
+  EXPECT_DOUBLE_EQ(mirrored.volume(), l.volume());
+  EXPECT_EQ(mirrored.classify({-0.5, 2, 1}), Location::Inside);
+}
+
+TEST(Body, PerspectiveTransformOfABodyInFront) {
+  Body cube = box({-1, -1, -1}, {1, 1, 1});
+  Body seen = cube.transformed(Transform::perspective(10));
+  EXPECT_EQ(seen.face_count(), 6);
+  EXPECT_GT(seen.volume(), 0);
+  EXPECT_THROW(cube.transformed(Transform::perspective(0.5)), InvalidInput);  // straddles the eye
+}
+
+TEST(Body, FaceWithHoleIsOneFace) {
+  Body plate = prism({{0, 0}, {4, 0}, {4, 4}, {0, 4}}, 0, 1, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}});
+  EXPECT_EQ(plate.face_count(), 10);
+  EXPECT_EQ(plate.faces()[0].loops.size(), 2u);
+  EXPECT_EQ(plate.volume(), 12);
+  EXPECT_EQ(plate.face_area(1), 12);
+}
+
+// Invalid input: each gives an InvalidInput whose message names the problem and the place.
+TEST(BodyErrors, NamedMessages) {
+  const auto v = cube_vertices();
+  const auto f = cube_faces();
+  auto expect_error = [](std::vector<Vec3> vv, std::vector<Face> ff, const std::string& part) {
+    std::string message = error_of(std::move(vv), std::move(ff));
+    EXPECT_NE(message.find(part), std::string::npos) << "message: '" << message << "'";
+  };
+  {
+    auto bad = v;
+    bad[3].x() = std::nan("");
+    expect_error(bad, f, "vertex 3 has a non-finite coordinate");
+    bad[3].x() = INFINITY;
+    expect_error(bad, f, "vertex 3 has a non-finite coordinate");
+    bad[3].x() = 1e300;
+    expect_error(bad, f, "vertex 3 has a coordinate beyond");
+  }
+  {
+    auto bad = f;
+    bad[2] = Face{0, 1};
+    expect_error(v, bad, "face 2 has 2 vertices");
+    bad[2] = Face{0, 1, 5, 44};
+    expect_error(v, bad, "face 2 refers to vertex 44, out of range");
+    bad[2] = Face{0, 1, 5, 1};
+    expect_error(v, bad, "face 2 uses vertex 1 twice");
+  }
+  {
+    auto bad = f;
+    std::reverse(bad[4].loops[0].begin(), bad[4].loops[0].end());
+    expect_error(v, bad, "face 4 is flipped");
+  }
+  {
+    auto bad = f;
+    bad.pop_back();
+    expect_error(v, bad, "not closed: 4 boundary edges, first between vertices");
+    bad.push_back(Face{4, 5, 7});
+    bad.push_back(Face{4, 7, 6});
+    bad.pop_back();
+    expect_error(v, bad, "not closed: 3 boundary edges");
+  }
+  {
+    auto bad = v;
+    bad[7].z() = 1.001;  // vertex 7 lifted: faces 1, 3, 5 not planar
+    expect_error(bad, f, "face 5 is not planar: vertex");
+    expect_error(bad, f, "off its plane (tolerance");
+  }
+  {
+    // Flat "body": two squares back to back.
+    std::vector<Vec3> flat = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    expect_error(flat, {{0, 1, 2, 3}, {3, 2, 1, 0}}, "at least 4 faces");
+  }
+  {
+    // Every face reversed: inside out.
+    auto bad = f;
+    for (Face& face : bad) std::reverse(face.loops[0].begin(), face.loops[0].end());
+    expect_error(v, bad, "oriented inwards");
+  }
+  {
+    // Two cubes sharing one vertex: non-manifold vertex.
+    auto vv = v;
+    for (int i = 1; i < 8; ++i) vv.push_back(v[i] + Vec3(2, 2, 2));
+    auto ff = f;
+    auto id = [](int i) { return i == 0 ? 7 : 7 + i; };
+    for (const Face& face : f) {
+      Face g;
+      g.loops.emplace_back();
+      for (int i : face.loops[0]) g.loops[0].push_back(id(i));
+      ff.push_back(g);
+    }
+    expect_error(vv, ff, "non-manifold vertex 7");
+  }
+  {
+    auto bad = v;
+    bad.emplace_back(5, 5, 5);
+    expect_error(bad, f, "vertex 8 is not used by any face");
+  }
+  {
+    // A cube plus a detached two-sided triangle: a face repeated with the opposite orientation.
+    auto vv = v;
+    vv.insert(vv.end(), {{5, 5, 5}, {6, 5, 5}, {5, 6, 5}});
+    auto ff = f;
+    ff.push_back(Face{8, 9, 10});
+    ff.push_back(Face{8, 10, 9});
+    expect_error(vv, ff, "faces 6 and 7 have the same vertices (a repeated face)");
+  }
+  {
+    // A square covered twice (two triangles on each side, different diagonals): closed,
+    // oriented, planar faces, but flat.
+    std::vector<Vec3> square = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const std::string message =
+        error_of(square, {Face{0, 1, 2}, Face{0, 2, 3}, Face{1, 0, 3}, Face{1, 3, 2}});
+    EXPECT_NE(message.find("volume"), std::string::npos) << message;
+  }
+}
+
+TEST(BodyErrors, SelfCrossingFace) {
+  // A prism whose top and bottom are bow ties is rejected when its outline crosses itself.
+  EXPECT_THROW(prism({{0, 0}, {2, 2}, {2, 0}, {0, 2}}, 0, 1), InvalidInput);
+  // A hole outside the outline.
+  EXPECT_THROW(prism({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 1, {{{2, 2}, {3, 2}, {3, 3}}}),
+               InvalidInput);
+}
+
+}  // namespace
+}  // namespace hedra

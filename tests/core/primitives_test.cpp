@@ -1,0 +1,100 @@
+#include "hedra/core/primitives.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "hedra/core/error.h"
+
+namespace hedra {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+TEST(Primitives, BoxMeasures) {
+  Body b = box({1, 2, 3}, {4, 6, 8});
+  EXPECT_EQ(b.volume(), 60);
+  EXPECT_EQ(b.area(), 2 * (12 + 15 + 20));
+  EXPECT_LT((b.centroid() - Vec3(2.5, 4, 5.5)).norm(), 1e-14);
+  EXPECT_THROW(box({0, 0, 0}, {1, 0, 1}), InvalidInput);
+}
+
+TEST(Primitives, LPrismExact) {
+  Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
+  EXPECT_EQ(l.face_count(), 8);
+  EXPECT_EQ(l.vertex_count(), 12);
+  EXPECT_EQ(l.edge_count(), 18);
+  EXPECT_EQ(l.volume(), 12);  // (4 + 2) · 2
+  EXPECT_EQ(l.area(), 2 * 6 + 2 * (4 + 1 + 3 + 1 + 2 + 3));
+  // Centroid of the L: area-weighted mean of 4×1 at (2, 0.5) and 1×2 at (0.5, 2).
+  EXPECT_LT((l.centroid() - Vec3((4 * 2 + 2 * 0.5) / 6, (4 * 0.5 + 2 * 2) / 6.0, 1)).norm(), 1e-14);
+}
+
+TEST(Primitives, PrismDropsCollinearVerticesAndAcceptsClockwise) {
+  Body b = prism({{0, 0}, {0, 2}, {2, 2}, {2, 1}, {2, 0}, {1, 0}}, 0, 1);  // clockwise
+  EXPECT_EQ(b.face_count(), 6);
+  EXPECT_EQ(b.volume(), 4);
+}
+
+TEST(Primitives, PyramidAndFrustum) {
+  Body p = pyramid({{0, 0}, {2, 0}, {2, 2}, {0, 2}}, 0, {1, 1, 3});
+  EXPECT_EQ(p.face_count(), 5);
+  EXPECT_DOUBLE_EQ(p.volume(), 4.0 * 3 / 3);
+  EXPECT_LT((p.centroid() - Vec3(1, 1, 0.75)).norm(), 1e-14);
+  Body upside_down = pyramid({{0, 0}, {2, 0}, {2, 2}, {0, 2}}, 0, {1, 1, -3});
+  EXPECT_DOUBLE_EQ(upside_down.volume(), 4);
+  // Frustum cut halfway: V = h/3 (A1 + A2 + sqrt(A1 A2)) = 1.5/3 (4 + 1 + 2).
+  Body f = frustum({{0, 0}, {2, 0}, {2, 2}, {0, 2}}, 0, {1, 1, 3}, 1.5);
+  EXPECT_EQ(f.face_count(), 6);
+  EXPECT_NEAR(f.volume(), 3.5, 1e-14);
+  EXPECT_THROW(frustum({{0, 0}, {2, 0}, {2, 2}}, 0, {1, 1, 3}, 3), InvalidInput);
+}
+
+TEST(Primitives, RegularPrismVolume) {
+  const int n = 7;
+  Body b = regular_prism(n, 2, 0, 3);
+  EXPECT_EQ(b.face_count(), n + 2);
+  EXPECT_NEAR(b.volume(), 0.5 * n * 4 * std::sin(2 * kPi / n) * 3, 1e-12);
+}
+
+TEST(Primitives, CylinderMeetsChordalTolerance) {
+  for (double tol : {0.1, 0.01, 0.001}) {
+    const double r = 1;
+    int n = segments_for_tolerance(r, tol);
+    EXPECT_LE(r * (1 - std::cos(kPi / n)), tol);
+    EXPECT_GT(r * (1 - std::cos(kPi / (n - 1))), tol);  // one fewer side would not do
+    Body c = cylinder(r, 0, 2, tol);
+    EXPECT_EQ(c.face_count(), n + 2);
+    EXPECT_NEAR(c.volume(), 0.5 * n * std::sin(2 * kPi / n) * 2, 1e-12);
+  }
+}
+
+TEST(Primitives, ConeVolume) {
+  Body c = cone(1, 0, 3, 0.01);
+  int n = segments_for_tolerance(1, 0.01);
+  EXPECT_EQ(c.face_count(), n + 1);
+  EXPECT_NEAR(c.volume(), 0.5 * n * std::sin(2 * kPi / n) * 3 / 3, 1e-12);
+}
+
+TEST(Primitives, SphereMeetsChordalToleranceWithFewestBands) {
+  for (double tol : {0.1, 0.01, 0.001}) {
+    const double r = 2;
+    Body s = sphere({1, 2, 3}, r, tol);
+    // Independent check: the distance from the centre to every face plane is >= r − tol.
+    double worst = 0;
+    for (int f = 0; f < s.face_count(); ++f)
+      worst = std::max(worst, r - s.plane(f).value(Vec3(1, 2, 3)));
+    EXPECT_LE(worst, tol * (1 + 1e-9));
+    // Fewest bands: the next coarser sphere misses the tolerance.
+    const int rings = (s.face_count() + 0) / 1;  // faces = 2·rings·rings
+    int bands = static_cast<int>(std::lround(std::sqrt(rings / 2.0)));
+    EXPECT_EQ(2 * bands * bands, s.face_count());
+    EXPECT_GT(sphere_chordal_error(r, bands - 1), tol);
+    EXPECT_LT(std::abs(s.volume() - 4.0 / 3 * kPi * r * r * r), 4.0 * kPi * r * r * tol);
+    EXPECT_LT((s.centroid() - Vec3(1, 2, 3)).norm(), 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace hedra

@@ -1,0 +1,135 @@
+#include "hedra/io/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include <filesystem>
+#include <fstream>
+
+#include "testing/bad_files.h"
+#include "hedra/core/error.h"
+#include "hedra/core/primitives.h"
+
+namespace hedra {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  fs::path d = fs::temp_directory_path() /
+               ("hedra_mesh_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+                "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  fs::create_directories(d);
+  return d;
+}
+
+std::vector<Body> sample_bodies() {
+  return {prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2),
+          prism({{10, 0}, {14, 0}, {14, 4}, {10, 4}}, 0, 1, {{{11, 1}, {13, 1}, {13, 3}, {11, 3}}}),
+          pyramid({{20, 0}, {22, 0}, {22, 2}, {20, 2}}, 0, {21, 1, 3})};
+}
+
+void expect_same(const Body& a, const Body& b, double tol) {
+  EXPECT_EQ(a.vertex_count(), b.vertex_count());
+  EXPECT_EQ(a.face_count(), b.face_count());
+  EXPECT_EQ(a.edge_count(), b.edge_count());
+  EXPECT_NEAR(a.volume(), b.volume(), tol * a.volume());
+  EXPECT_NEAR(a.area(), b.area(), tol * a.area());
+}
+
+TEST(MeshIo, RoundTripEveryFormat) {
+  const fs::path dir = temp_dir();
+  const std::vector<Body> bodies = sample_bodies();
+  for (const char* name : {"out.off", "out.obj", "out.ply", "out.stl", "ascii.stl"}) {
+    const std::string path = (dir / name).string();
+    io::WriteOptions options;
+    options.stl_ascii = std::string(name) == "ascii.stl";
+    io::write_bodies(bodies, path, options);
+    std::vector<Body> back = io::read_bodies(path);
+    ASSERT_EQ(back.size(), bodies.size()) << name;
+    for (size_t i = 0; i < bodies.size(); ++i) {
+      SCOPED_TRACE(name);
+      expect_same(bodies[i], back[i], 0);
+    }
+  }
+}
+
+TEST(MeshIo, DoublesSurviveTextFormatsExactly) {
+  const fs::path dir = temp_dir();
+  Body b = box({0.1, 0.2, 0.3}, {1.7, 2.9, 3.1}).rotated_z(17, {0.3, 0.3, 0});
+  for (const char* name : {"r.off", "r.obj", "r.ply", "ra.stl"}) {
+    const std::string path = (dir / name).string();
+    io::WriteOptions options;
+    options.stl_ascii = true;
+    io::write_bodies({b}, path, options);
+    Body back = io::read_bodies(path).at(0);
+    // Same coordinates bit for bit (as a set; STL reorders vertices).
+    auto sorted = [](std::vector<Vec3> v) {
+      std::sort(v.begin(), v.end(), [](const Vec3& p, const Vec3& q) {
+        return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+      });
+      return v;
+    };
+    EXPECT_EQ(sorted(back.vertices()), sorted(b.vertices())) << name;
+    EXPECT_EQ(back.face_count(), 6) << name;
+  }
+}
+
+TEST(MeshIo, OpenMeshReadsWhatHedraWrites) {
+  omerr().disable();
+  omlog().disable();
+  const fs::path dir = temp_dir();
+  Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
+  for (const char* name : {"l.off", "l.obj", "l.ply", "l.stl"}) {
+    const std::string path = (dir / name).string();
+    io::write_bodies({l}, path);
+    OpenMesh::PolyMesh_ArrayKernelT<> mesh;
+    ASSERT_TRUE(OpenMesh::IO::read_mesh(mesh, path)) << name;
+    EXPECT_EQ(mesh.n_vertices(), 12u) << name;
+    const bool stl = std::string(name) == "l.stl";
+    EXPECT_EQ(mesh.n_faces(), stl ? 20u : 8u) << name;  // STL: 2·(6 − 2) caps + 6·2 sides
+  }
+}
+
+TEST(MeshIo, TriangulatedStlBoxBecomesSixFaces) {
+  const fs::path dir = temp_dir();
+  io::write_bodies({box({0, 0, 0}, {1, 2, 3})}, (dir / "box.stl").string());
+  std::vector<Body> back = io::read_bodies((dir / "box.stl").string());
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].face_count(), 6);
+  EXPECT_EQ(back[0].volume(), 6);
+}
+
+TEST(MeshIo, BadFilesGiveNamedErrors) {
+  const fs::path dir = temp_dir();
+  testing::write_bad_files(dir);
+  for (const auto& bad : testing::bad_files()) {
+    const std::string path = (dir / bad.name).string();
+    try {
+      io::read_bodies(path);
+      ADD_FAILURE() << bad.name << " was accepted";
+    } catch (const InvalidInput& e) {
+      std::string message = e.what();
+      EXPECT_EQ(message.rfind(path, 0), 0u) << message;  // starts with the file name
+      EXPECT_NE(message.find(bad.expected), std::string::npos) << bad.name << ": " << message;
+      EXPECT_EQ(message.find('\n'), std::string::npos) << message;  // one line
+    }
+  }
+}
+
+TEST(MeshIo, MissingFileAndUnknownFormat) {
+  EXPECT_THROW(io::read_bodies("/nonexistent/x.off"), IoError);
+  EXPECT_THROW(io::read_bodies("x.xyz"), InvalidInput);
+}
+
+TEST(MeshIo, FailedWriteLeavesNoFile) {
+  const fs::path dir = temp_dir();
+  EXPECT_THROW(io::write_bodies(sample_bodies(), (dir / "missing" / "out.off").string()), IoError);
+  EXPECT_FALSE(fs::exists(dir / "missing"));
+}
+
+}  // namespace
+}  // namespace hedra

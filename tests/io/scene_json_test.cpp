@@ -1,0 +1,223 @@
+#include "hedra/io/scene_json.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+#include <unistd.h>
+
+#include "hedra/io/text_reader.h"
+#include "hedra/mesh/boolean.h"
+#include "hedra/core/error.h"
+#include "hedra/core/primitives.h"
+
+namespace hedra {
+namespace {
+
+const std::string kExample = std::string(HEDRA_SOURCE_DIR) + "/examples/city-block.json";
+
+void expect_same_body(const Body& a, const Body& b, const std::string& name) {
+  EXPECT_EQ(a.vertices(), b.vertices()) << name;
+  ASSERT_EQ(a.face_count(), b.face_count()) << name;
+  for (int f = 0; f < a.face_count(); ++f) EXPECT_EQ(a.faces()[f].loops, b.faces()[f].loops) << name;
+}
+
+void expect_same_scene(const Scene& a, const Scene& b) {
+  ASSERT_EQ(a.bodies().size(), b.bodies().size());
+  for (size_t i = 0; i < a.bodies().size(); ++i) {
+    const SceneBody &x = a.bodies()[i], &y = b.bodies()[i];
+    EXPECT_EQ(x.name, y.name);
+    EXPECT_EQ(x.hidden, y.hidden) << x.name;
+    EXPECT_EQ(x.material, y.material) << x.name;
+    expect_same_body(x.body, y.body, x.name);
+  }
+  EXPECT_EQ(a.camera.projection, b.camera.projection);
+  EXPECT_EQ(a.camera.eye, b.camera.eye);
+  EXPECT_EQ(a.camera.target, b.camera.target);
+  EXPECT_EQ(a.camera.direction, b.camera.direction);
+  EXPECT_EQ(a.camera.fov_deg, b.camera.fov_deg);
+  EXPECT_EQ(a.camera.width, b.camera.width);
+  ASSERT_EQ(a.lights.size(), b.lights.size());
+  for (size_t i = 0; i < a.lights.size(); ++i) {
+    EXPECT_EQ(a.lights[i].type, b.lights[i].type);
+    EXPECT_EQ(a.lights[i].direction, b.lights[i].direction);
+    EXPECT_EQ(a.lights[i].position, b.lights[i].position);
+    EXPECT_EQ(a.lights[i].intensity, b.lights[i].intensity);
+  }
+  EXPECT_EQ(a.image.background, b.image.background);
+}
+
+TEST(SceneJson, BuilderAndJsonGiveIdenticalScenes) {
+  const std::string text = R"({
+    "bodies": [
+      {"name": "ground", "box": {"min": [0, 0, -1], "max": [100, 100, 0]}},
+      {"name": "tower", "box": {"min": [0, 0, 0], "max": [2, 2, 10]},
+       "transform": [{"rotate": {"axis": [0, 0, 1], "deg": 30}}, {"translate": [5, 0, 0]}],
+       "material": {"color": [0.8, 0.3, 0.2], "ka": 0.2, "kd": 0.7, "ks": 0.2, "shininess": 20}},
+      {"name": "a", "box": {"min": [20, 20, 0], "max": [24, 24, 4]}, "hidden": true},
+      {"name": "b", "box": {"min": [22, 22, 2], "max": [26, 26, 6]}, "hidden": true},
+      {"name": "cut", "subtract": ["a", "b"]},
+      {"name": "ball", "sphere": {"center": [50, 50, 3], "radius": 3, "tolerance": 0.05}}
+    ],
+    "camera": {"projection": "perspective", "eye": [-30, -40, 25], "target": [20, 20, 0],
+               "up": [0, 0, 1], "fov_deg": 40},
+    "lights": [{"type": "sun", "latitude": 52.5, "longitude": 13.4, "time": "2026-06-21T10:00:00Z"}],
+    "image": {"width": 640, "height": 480}
+  })";
+  Scene from_json = io::parse_scene("inline.json", text);
+
+  Scene built;
+  built.add("ground", box({0, 0, -1}, {100, 100, 0}));
+  built.add("tower", box({0, 0, 0}, {2, 2, 10}).transformed(
+                         Transform::rotation({0, 0, 1}, 30) * Transform::translation({5, 0, 0})))
+      .with_color({0.8, 0.3, 0.2});
+  built.add("a", box({20, 20, 0}, {24, 24, 4})).hide();
+  built.add("b", box({22, 22, 2}, {26, 26, 6})).hide();
+  built.add("cut", *subtract(built.get("a").body, built.get("b").body));
+  built.add("ball", sphere({50, 50, 3}, 3, 0.05));
+  built.camera = Camera::perspective({-30, -40, 25}, {20, 20, 0}, 40);
+  built.camera.width = 640;
+  built.camera.height = 480;
+  built.lights.push_back(Light::sun(52.5, 13.4, UtcTime::parse("2026-06-21T10:00:00Z")));
+  expect_same_scene(built, from_json);
+  EXPECT_EQ(from_json.visible_bodies().size(), 4u);
+}
+
+TEST(SceneJson, EveryBodyTypeFromTheExample) {
+  Scene s = io::read_scene(kExample);
+  EXPECT_EQ(s.bodies().size(), 13u);
+  EXPECT_EQ(s.get("ground").body.volume(), 35 * 30 * 1);
+  EXPECT_EQ(s.get("L").body.face_count(), 8);
+  EXPECT_NEAR(s.get("L").body.volume(), 12, 1e-12);
+  EXPECT_EQ(s.get("plate").body.volume(), 12 - 2 * 2 * 0.5);
+  EXPECT_NEAR(s.get("p").body.volume(), 2 * 2 * 3 / 6.0, 1e-12);
+  EXPECT_EQ(s.get("cut").body.volume(), 6 * 6 * 4 - 4 * 4 * 2);
+  EXPECT_TRUE(s.get("blockA").hidden);
+  EXPECT_EQ(s.get("s").body.face_count(), 512);
+  EXPECT_NE(s.get("tower").lod_note.find("pixel_tolerance 0.5 px"), std::string::npos);
+  EXPECT_EQ(s.get("roof").body.face_count(), 5);
+  EXPECT_NEAR(s.get("stump").body.volume(), 4.0 * 3 / 3 - (16.0 / 9) * 2 / 3, 1e-12);
+  EXPECT_EQ(s.get("hex").body.face_count(), 8);
+  EXPECT_EQ(s.camera.projection, Camera::Projection::Perspective);
+  EXPECT_EQ(s.lights.size(), 4u);
+  EXPECT_EQ(s.lights[0].type, Light::Type::Sun);
+  EXPECT_GT(-s.lights[0].direction.z(), 0.5);  // the sun is high in June
+  EXPECT_EQ(s.camera.width, 1024);
+}
+
+// The body types the example does not use: a mesh file (its path relative to the scene file,
+// not to the working directory), unite and intersect of hidden operands.
+TEST(SceneJson, MeshUniteAndIntersectBodies) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("hedra_scene_json_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "parts");
+  std::ofstream(dir / "parts" / "cube.off")
+      << "OFF\n8 6 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2\n0 2 2\n"
+         "4 0 3 2 1\n4 4 5 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  std::ofstream(dir / "parts" / "scene.json") << R"({
+    "bodies": [
+      {"name": "part", "mesh": "cube.off", "transform": [{"translate": [10, 0, 0]}]},
+      {"name": "a", "box": {"min": [0, 0, 0], "max": [2, 2, 2]}, "hidden": true},
+      {"name": "b", "box": {"min": [1, 1, 1], "max": [3, 3, 3]}, "hidden": true},
+      {"name": "u", "unite": ["a", "b"]},
+      {"name": "i", "intersect": ["a", "b"]}
+    ]})";
+  const Scene s = io::read_scene((dir / "parts" / "scene.json").string());
+  EXPECT_EQ(s.get("part").body.volume(), 8);
+  EXPECT_EQ(s.get("part").body.bbox().min(), Vec3(10, 0, 0));
+  EXPECT_EQ(s.get("u").body.volume(), 8 + 8 - 1);
+  EXPECT_EQ(s.get("u").body.face_count(), 12);
+  EXPECT_EQ(s.get("i").body.volume(), 1);
+  EXPECT_EQ(s.get("i").body.face_count(), 6);
+  EXPECT_EQ(s.visible_bodies().size(), 3u);
+  fs::remove_all(dir);
+}
+
+TEST(SceneJson, WriteBackGivesAnEquivalentScene) {
+  Scene s = io::read_scene(kExample);
+  const std::string text = io::format_scene(s);
+  Scene back = io::parse_scene("back.json", text);
+  expect_same_scene(s, back);
+  EXPECT_EQ(io::format_scene(back), text);  // a fixed point
+}
+
+struct ErrorCase {
+  const char* text;
+  const char* message;
+};
+
+TEST(SceneJson, ErrorsNameFileLineColumnAndProblem) {
+  const ErrorCase cases[] = {
+      {"{\"bodies\": [\n  {\"name\": \"L\",\n   \"prism\": {\"polygon\": [[0,0],[1,0]], \"z\": [0, 1]}}]}",
+       "scene.json:3:25: body 'L': 'polygon' needs at least 3 points"},
+      {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"colour\": 1}]}",
+       "scene.json:1:68: body 'a': unknown key 'colour' (expected name, one shape, transform, material, hidden)"},
+      {"{\"bodies\": [], \"extra\": 1}",
+       "scene.json:1:16: unknown key 'extra' (expected one of: version, bodies, camera, lights, image)"},
+      {"{\"bodies\": []}", "scene.json:1:12: 'bodies' is empty"},
+      {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1]}}]}",
+       "scene.json:1:58: body 'a': 'max' must be an array of 3 numbers"},
+      {"{\"bodies\": [{\"name\": \"c\", \"subtract\": [\"x\", \"y\"]}]}",
+       "scene.json:1:40: body 'c': operand 'x' is not a body defined earlier in the list"},
+      {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}},\n"
+       "             {\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}}]}",
+       "scene.json:2:23: body name 'a' is used twice"},
+      {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}}],\n"
+       " \"lights\": [{\"type\": \"sun\", \"latitude\": 52.5, \"longitude\": 13.4, \"time\": \"2026-06-21T23:00:00Z\"}]}",
+       "scene.json:2:13: the sun is below the horizon at latitude 52.5, longitude 13.4"},
+      {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [0,1,1]}}]}",
+       "scene.json:1:34: body 'a': box: min must be below max in every coordinate"},
+      {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}}],\n \"camera\": {\"projection\": \"fisheye\"}}",
+       "scene.json:2:27: 'projection' must be \"parallel\" or \"perspective\""},
+      {"{\"bodies\": [{\"name\": \"s\", \"sphere\": {\"center\": [0,0,0], \"radius\": 1}}]}",
+       "scene.json:1:37: body 's': missing 'tolerance' or 'pixel_tolerance'"},
+      {"{\"bodies\": [1,]}", "scene.json:1:15: unexpected character ']'"},
+      {"{\"bodies\": [{\"name\": \"m\", \"mesh\": \"missing.off\"}]}", "missing.off: cannot open"},
+      {"", "scene.json:1:1: empty file (expected a JSON value)"},
+  };
+  for (const ErrorCase& c : cases) {
+    try {
+      io::parse_scene("scene.json", c.text);
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos)
+          << "got:      " << e.what() << "\nexpected: " << c.message;
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(SceneJson, RandomlyDamagedFilesNeverCrash) {
+  const std::string good = io::read_file(kExample);
+  std::mt19937 random(7);
+  int accepted = 0, rejected = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text = good;
+    const int edits = 1 + static_cast<int>(random() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const size_t at = random() % text.size();
+      switch (random() % 4) {
+        case 0: text.erase(at, 1 + random() % 8); break;
+        case 1: text.insert(at, 1, "{}[],:\"0-e9x.\\ "[random() % 15]); break;
+        case 2: text[at] = static_cast<char>(random() % 256); break;
+        case 3: text.insert(at, text.substr(random() % text.size(), random() % 20)); break;
+      }
+      if (text.empty()) text = "{";
+    }
+    try {
+      io::parse_scene(kExample, text);
+      ++accepted;
+    } catch (const InvalidInput&) {
+      ++rejected;
+    } catch (const IoError&) {
+      ++rejected;
+    }
+  }
+  EXPECT_EQ(accepted + rejected, 300);
+  EXPECT_GT(rejected, 200);
+}
+
+}  // namespace
+}  // namespace hedra

@@ -1,0 +1,90 @@
+#include "hedra/mesh/merge_coplanar.h"
+
+#include <gtest/gtest.h>
+
+#include "hedra/core/error.h"
+#include "hedra/core/primitives.h"
+
+namespace hedra {
+namespace {
+
+// Every face of a body as its triangles: what an STL file holds.
+PolygonSoup triangulated(const Body& b) {
+  PolygonSoup s{b.vertices(), {}};
+  for (const Triangle& t : b.triangles()) s.polygons.push_back({t.v[0], t.v[1], t.v[2]});
+  return s;
+}
+
+TEST(MergeCoplanar, TriangulatedBoxHasSixFaces) {
+  Body b = box({0, 0, 0}, {1, 2, 3});
+  std::vector<Body> merged = bodies_from_soup(triangulated(b));
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0].face_count(), 6);
+  EXPECT_EQ(merged[0].vertex_count(), 8);
+  EXPECT_EQ(merged[0].volume(), 6);
+}
+
+TEST(MergeCoplanar, PlateWithHoleCapBecomesOneFaceWithAHole) {
+  Body plate = prism({{0, 0}, {4, 0}, {4, 4}, {0, 4}}, 0, 1, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}});
+  std::vector<Body> merged = bodies_from_soup(triangulated(plate));
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0].face_count(), 10);
+  int with_holes = 0;
+  for (const Face& f : merged[0].faces()) with_holes += f.loops.size() == 2;
+  EXPECT_EQ(with_holes, 2);
+  EXPECT_EQ(merged[0].volume(), 12);
+}
+
+TEST(MergeCoplanar, InteriorVertexIsDropped) {
+  // A box whose top is a fan around a centre vertex.
+  Body b = box({0, 0, 0}, {2, 2, 2});
+  PolygonSoup s{b.vertices(), {}};
+  for (int f = 0; f < 5; ++f) s.polygons.push_back(b.faces()[f].loops[0]);
+  s.vertices.emplace_back(1, 1, 2);
+  const auto& top = b.faces()[5].loops[0];
+  for (size_t i = 0; i < 4; ++i) s.polygons.push_back({top[i], top[(i + 1) % 4], 8});
+  std::vector<Body> merged = bodies_from_soup(s);
+  EXPECT_EQ(merged[0].face_count(), 6);
+  EXPECT_EQ(merged[0].vertex_count(), 8);
+}
+
+TEST(MergeCoplanar, NearlyCoplanarNeedsTheTolerance) {
+  Body b = box({0, 0, 0}, {1, 1, 1});
+  PolygonSoup s = triangulated(b);
+  // Lift one top vertex of a triangulated top by 1e-9: two triangles no longer coplanar.
+  s.vertices[7].z() += 1e-9;
+  auto exact = bodies_from_soup(s);
+  EXPECT_GT(exact[0].face_count(), 6);
+  MergeOptions loose;
+  loose.coplanar_tolerance = 1e-6;
+  loose.planarity_tolerance = 1e-6;
+  EXPECT_EQ(bodies_from_soup(s, loose)[0].face_count(), 6);
+}
+
+TEST(MergeCoplanar, ComponentsBecomeBodies) {
+  PolygonSoup a = triangulated(box({0, 0, 0}, {1, 1, 1}));
+  PolygonSoup b = triangulated(box({3, 0, 0}, {4, 1, 1}));
+  const int offset = static_cast<int>(a.vertices.size());
+  a.vertices.insert(a.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (auto p : b.polygons) {
+    for (int& v : p) v += offset;
+    a.polygons.push_back(p);
+  }
+  std::vector<Body> bodies = bodies_from_soup(a);
+  ASSERT_EQ(bodies.size(), 2u);
+  EXPECT_EQ(bodies[1].bbox().min().x(), 3);
+}
+
+TEST(MergeCoplanar, ErrorsNameInputPolygons) {
+  PolygonSoup s = triangulated(box({0, 0, 0}, {1, 1, 1}));
+  std::reverse(s.polygons[3].begin(), s.polygons[3].end());
+  try {
+    bodies_from_soup(s);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("face 3 is flipped"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace hedra

@@ -1,0 +1,92 @@
+// The decomposition suite of issue "Exact convex decomposition": shapes built in code, used by
+// tests/decompose_test.cpp and bench/.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "hedra/mesh/boolean.h"
+#include "hedra/core/primitives.h"
+
+namespace hedra::suite {
+
+struct Shape {
+  std::string name;
+  Body body;
+};
+
+/// A box 2k+1 wide with k rectangular notches cut into its top (+y), extruded along z.
+inline Body comb(int k) {
+  Polygon2 p{{0, 0}, {2.0 * k + 1, 0}, {2.0 * k + 1, 3}};
+  for (int i = k - 1; i >= 0; --i) {
+    p.emplace_back(2.0 * i + 2, 3);
+    p.emplace_back(2.0 * i + 2, 2);
+    p.emplace_back(2.0 * i + 1, 2);
+    p.emplace_back(2.0 * i + 1, 3);
+  }
+  p.emplace_back(0, 3);
+  return prism(p, 0, 2);
+}
+
+inline Body staircase(int steps) {
+  Polygon2 p{{0, 0}, {double(steps), 0}};
+  for (int i = steps; i >= 1; --i) {
+    p.emplace_back(i, i);
+    p.emplace_back(i - 1, i);
+  }
+  return prism(p, 0, 3);
+}
+
+inline Polygon2 star(int points, double outer, double inner) {
+  Polygon2 p;
+  for (int i = 0; i < 2 * points; ++i) {
+    const double r = i % 2 ? inner : outer, t = std::numbers::pi * i / points;
+    p.emplace_back(r * std::cos(t), r * std::sin(t));
+  }
+  return p;
+}
+
+inline Body plate_with_holes(int n) {
+  const double size = 2.0 * n + 1;
+  std::vector<Polygon2> holes;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      holes.push_back({{1.0 + 2 * i, 1.0 + 2 * j}, {2.0 + 2 * i, 1.0 + 2 * j},
+                       {2.0 + 2 * i, 2.0 + 2 * j}, {1.0 + 2 * i, 2.0 + 2 * j}});
+  return prism({{0, 0}, {size, 0}, {size, size}, {0, size}}, 0, 1, holes);
+}
+
+inline Body cross3(double a, double length) {
+  const double h = a / 2, l = length / 2;
+  return unite(unite(box({-l, -h, -h}, {l, h, h}), box({-h, -l, -h}, {h, l, h})),
+               box({-h, -h, -l}, {h, h, l}));
+}
+
+/// A generic rotation (not about a coordinate axis), about the body's centroid.
+inline Body rotated(const Body& b) {
+  return b.transformed(Transform::rotation({1, 2, 3}, 37, b.centroid()));
+}
+
+inline std::vector<Shape> shapes(bool with_large = true) {
+  std::vector<Shape> s = {
+      {"L prism", prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2)},
+      {"comb 4", comb(4)},
+      {"comb 16", comb(16)},
+      {"box with hole", prism({{0, 0}, {4, 0}, {4, 3}, {0, 3}}, 0, 2, {{{1, 1}, {3, 1}, {3, 2}, {1, 2}}})},
+      {"staircase 10", staircase(10)},
+      {"star 8", prism(star(8, 2.5, 1), 0, 1)},
+      {"thin star 8", prism(star(8, 2.5, 1), 0, 5.0 / 500)},
+      {"cross", cross3(2, 6)},
+      {"plate 5x5", plate_with_holes(5)},
+      {"stacked boxes", unite(box({0, 0, 0}, {2, 2, 1}), box({0.5, 0.5, 1}, {1.5, 1.5, 2}))},
+  };
+  if (with_large) {
+    s.push_back({"comb 64", comb(64)});
+    s.push_back({"plate 10x10", plate_with_holes(10)});
+  }
+  return s;
+}
+
+}  // namespace hedra::suite
