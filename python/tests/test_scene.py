@@ -119,6 +119,13 @@ def test_sun_study_equals_the_command(city_path, tmp_path):
     assert st.lit_fraction.shape == (9, len(st.faces))
     assert st.hours("ground", 5) == cli["faces"][5]["sun_hours"]
     assert np.array_equal(st.grid_hours, np.array(cli["grid"]["sun_hours"]))
+    same = hedra.sun_study(hedra.read(city_path), "06:00", "18:00", 90, grid_body="ground",
+                           grid_face=5, grid_spacing=10)
+    assert same.to_json() == st.to_json()
+    # A study pickles exactly (it travels back from worker processes).
+    again = pickle.loads(pickle.dumps(st))
+    assert again.to_json() == st.to_json()
+    assert again.lit_fraction.tobytes() == st.lit_fraction.tobytes()
 
 
 def test_render_equals_the_command(city_path, tmp_path):
