@@ -155,10 +155,12 @@ def test_decomposition_equals_the_command(tmp_path):
         assert abs(sum(p.volume for p in ps) - b.volume) <= 1e-9 * b.volume
     with pytest.raises(hedra.InvalidInput, match="AGPL"):
         hedra.decompose(b, method="tetgen")
+    calls = []
+    notched = hedra.subtract(hedra.box((0, 0, 0), (4, 4, 4)), hedra.box((1, 1, 1), (5, 5, 5)))
     with pytest.raises(hedra.Cancelled):
-        hedra.decompose(hedra.sphere((0, 0, 0), 1).translated((0.5, 0, 0)).__class__ and
-                        hedra.subtract(hedra.box((0, 0, 0), (4, 4, 4)), hedra.box((1, 1, 1), (5, 5, 5))),
-                        progress=lambda done, open: False)
+        hedra.decompose(notched, progress=lambda done, open: calls.append((done, open)) or False)
+    assert len(calls) == 1
+    assert len(hedra.decompose(notched, progress=lambda done, open: True)) >= 2
 
 
 def read_clip_output(path):
@@ -250,3 +252,25 @@ def test_threads_call_hedra_concurrently():
 
     with ThreadPoolExecutor(max_workers=6) as pool:
         assert all(pool.map(work, range(24)))
+
+
+def test_long_calls_release_the_gil(city):
+    import threading
+    import time
+    span = {}
+
+    def render():
+        span["start"] = time.perf_counter()
+        hedra.render(city, width=640, height=480, aa=4, threads=1)
+        span["end"] = time.perf_counter()
+
+    ticks = []
+    t = threading.Thread(target=render)
+    t.start()
+    while t.is_alive():
+        ticks.append(time.perf_counter())
+        time.sleep(0.001)
+    t.join()
+    # Python code ran here while the render was inside C++ (with the GIL held it could not).
+    inside = [x for x in ticks if span["start"] + 0.01 < x < span["end"] - 0.01]
+    assert span["end"] - span["start"] > 0.05 and len(inside) > 0
