@@ -57,7 +57,13 @@ PyScene read_any(const std::string& path, double coplanar_tolerance, std::option
   return out;
 }
 
-void write_any(const py::handle& what, const std::string& path, bool stl_ascii) {
+// A str or os.PathLike as a file name.
+std::string path_of(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
+void write_any(const py::handle& what, const py::object& path_like, bool stl_ascii) {
+  const std::string path = path_of(path_like);
   if (py::isinstance<PyBody>(what)) {
     const PyBody& b = what.cast<const PyBody&>();
     if (io::is_scene_path(path)) {
@@ -531,7 +537,8 @@ void bind_scene(py::module_& m) {
       .def(py::pickle(&scene_state, &scene_from));
 
   m.def("demo_scene", [] { return PyScene{demo_scene(), ""}; }, "The scene of `hedra demo`.");
-  m.def("read", [](const std::string& path, double coplanar_tolerance, std::optional<double> planarity_tolerance) {
+  m.def("read", [](const py::object& path_like, double coplanar_tolerance, std::optional<double> planarity_tolerance) {
+    const std::string path = path_of(path_like);
     py::gil_scoped_release release;
     return read_any(path, coplanar_tolerance, planarity_tolerance);
   }, py::arg("path"), py::arg("coplanar_tolerance") = 0.0, py::arg("planarity_tolerance") = py::none(),

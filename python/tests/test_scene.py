@@ -56,8 +56,8 @@ def test_read_write_round_trip(tmp_path):
     assert t.source == str(tmp_path / "s.json")
     for name, b in s.bodies.items():
         assert t.bodies[name].vertices.tobytes() == b.vertices.tobytes()
-    hedra.write(s.bodies["L"], str(tmp_path / "l.off"))
-    m = hedra.read(str(tmp_path / "l.off"))
+    hedra.write(s.bodies["L"], tmp_path / "l.off")  # str or os.PathLike
+    m = hedra.read(tmp_path / "l.off")
     assert list(m.bodies) == ["l"] and m.bodies["l"].volume == 12.0
     assert m.camera.projection == "parallel" and len(m.lights) == 1
 
