@@ -157,6 +157,35 @@ PolygonSoup parse_ply(const std::string& path, const std::string& bytes) {
   }
   if (!have_format) throw InvalidInput(path + ": PLY header has no format line");
 
+  // Structure first: the elements hedra reads must have the properties it reads.
+  for (const Element& e : elements) {
+    bool x = false, y = false, z = false, indices = false;
+    for (const Property& p : e.properties) {
+      x = x || p.name == "x";
+      y = y || p.name == "y";
+      z = z || p.name == "z";
+      indices = indices || ((p.name == "vertex_indices" || p.name == "vertex_index") && p.is_list);
+    }
+    if (e.name == "vertex" && !(x && y && z))
+      throw InvalidInput(path + ": vertex element lacks x, y or z");
+    if (e.name == "face" && !indices) throw InvalidInput(path + ": face element lacks vertex_indices");
+  }
+  // Each record takes at least a byte per value (ASCII: a character and a separator), so the
+  // declared counts must fit in the data; an element without properties has nothing to read.
+  {
+    long double need = 0;
+    for (const Element& e : elements) {
+      long double record = 0;
+      for (const Property& p : e.properties)
+        record += format == Format::Ascii ? 2 : static_cast<long double>(size_of(p.is_list ? p.count_type : p.type));
+      need += record * e.count;
+    }
+    const long double have = bytes.size() - data_start + 1;  // the last value needs no separator
+    if (need > have)
+      throw InvalidInput(path + ": the header's element counts need at least " +
+                         std::to_string(static_cast<long long>(need)) + " bytes of data, but the file has " +
+                         std::to_string(bytes.size() - data_start));
+  }
   PolygonSoup soup;
   ValueSource source(path, bytes, data_start, format);
   long long vertex_count = -1;
@@ -175,6 +204,7 @@ PolygonSoup parse_ply(const std::string& path, const std::string& bytes) {
       throw InvalidInput(path + ": vertex element lacks x, y or z");
     if (is_face && fi < 0) throw InvalidInput(path + ": face element lacks vertex_indices");
     if (is_vertex) vertex_count = e.count;
+    if (e.properties.empty()) continue;
     for (long long r = 0; r < e.count; ++r) {
       const std::string where = e.name + " " + std::to_string(r);
       Vec3 p = Vec3::Zero();

@@ -70,6 +70,10 @@ struct SurfaceShadow {
 /// Per light (in the order of Scene::lights), its surface shadows.
 using SurfaceShadows = std::vector<std::vector<SurfaceShadow>>;
 
+/// Most pixels of one image (8192²): bounds the image buffers (3 bytes per pixel) whatever
+/// the scene file or the options ask for.
+constexpr long long kMaxImagePixels = 1LL << 26;
+
 struct RenderOptions {
   /// Image size; 0 takes the scene camera's (the scene file's "image").
   int width = 0, height = 0;
@@ -123,7 +127,8 @@ struct RenderStats {
 };
 
 /// Renders the visible bodies of the scene with its camera and lights.
-/// \throw InvalidInput for bad options (aa not 1/4/16, sizes out of 1…65536, more than 32
+/// \throw InvalidInput for bad options (aa not 1/4/16, sizes out of 1…65536 or more than
+///   kMaxImagePixels pixels, more than 32
 ///   lights with shadows on) or a bad camera. Cost O(faces + pixels·aa·lights) plus the
 ///   shadow method's (rays: O(log faces) per probe).
 Image render(const Scene& scene, const RenderOptions& options, SampleRecord* record = nullptr,
