@@ -48,7 +48,7 @@ bench-quick: bench-build
 # FUZZ_SECONDS on its seed corpus (tests/fuzz/corpus); fails on any finding.
 fuzz-build:
 	bash scripts/install-deps.sh clang libclang-rt-14-dev
-	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHEDRA_BUILD_FUZZ=ON \
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DHEDRA_BUILD_FUZZ=ON \
 	  -DHEDRA_BUILD_TESTS=OFF -DHEDRA_BUILD_EXAMPLES=OFF -DHEDRA_WITH_TETGEN=OFF $(CMAKE_ARGS) > /dev/null
 	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target hedra_fuzzers
 

@@ -519,7 +519,8 @@ class SceneReader {
       auto [z0, z1] = range(member(s, "z"), "'z'");
       const int sides = integer(member(s, "sides"), "'sides'");
       const double radius = positive(member(s, "radius"), "'radius'");
-      return within_budget([&] { return regular_prism(sides, radius, z0, z1, max_faces_); }, note);
+      return within_budget([&, z0 = z0, z1 = z1] { return regular_prism(sides, radius, z0, z1, max_faces_); },
+                           note);
     }
     if (shape == "cylinder" || shape == "cone") {
       allow(s, {"radius", "z", "tolerance", "pixel_tolerance", "max_faces"});
@@ -532,7 +533,9 @@ class SceneReader {
       surface = shape == "cylinder" ? SmoothSurface::cylinder(r, z0, z1)
                                     : SmoothSurface::cone(r, z0, z1);
       Body body = within_budget(
-          [&] { return shape == "cylinder" ? cylinder(r, z0, z1, tol, max_faces_) : cone(r, z0, z1, tol, max_faces_); },
+          [&, z0 = z0, z1 = z1] {
+            return shape == "cylinder" ? cylinder(r, z0, z1, tol, max_faces_) : cone(r, z0, z1, tol, max_faces_);
+          },
           note);
       note = std::to_string(n) + " sides: " + note;
       return body;

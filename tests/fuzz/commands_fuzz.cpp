@@ -65,8 +65,10 @@ void commands(const Scene& scene) {
     }
     const Eigen::AlignedBox3d box = b->body.bbox();
     const Vec3 lo = box.min() - Vec3::Constant(1), hi = box.max() + Vec3::Constant(1);
-    for (const auto& [p, q] : {std::pair{lo, hi}, std::pair{Vec3(lo.x(), hi.y(), lo.z()), Vec3(hi.x(), lo.y(), hi.z())},
-                               std::pair{box.center(), box.center()}}) {
+    const Vec3 centre = box.center();
+    const std::pair<Vec3, Vec3> segments[] = {
+        {lo, hi}, {Vec3(lo.x(), hi.y(), lo.z()), Vec3(hi.x(), lo.y(), hi.z())}, {centre, centre}};
+    for (const auto& [p, q] : segments) {
       if (!pieces.empty()) {
         clip_segment(std::span<const ConvexClipper>(pieces), p, q);
         clip_segment_outside(std::span<const ConvexClipper>(pieces), p, q);

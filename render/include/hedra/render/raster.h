@@ -78,7 +78,8 @@ struct RenderOptions {
   /// Image size; 0 takes the scene camera's (the scene file's "image").
   int width = 0, height = 0;
   Shading shading = Shading::Phong;
-  ShadowSettings shadows;
+  /// Exact shadow polygons by default, as `hedra render`.
+  ShadowSettings shadows{ShadowSettings::Method::Exact};
   /// Samples per pixel: 1, 4 (2 × 2) or 16 (4 × 4), averaged (supersampling).
   int aa = 1;
   /// Ambient intensity I_a (white).
