@@ -54,6 +54,12 @@ struct Element {
 
 enum class Format { Ascii, Little, Big };
 
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
 // Reads values of an element's records from ASCII tokens or binary bytes.
 class ValueSource {
  public:
@@ -213,14 +219,15 @@ PolygonSoup parse_ply(const std::string& path, const std::string& bytes) {
         const Property& prop = e.properties[k];
         if (prop.is_list) {
           double count = source.read(prop.count_type, where);
-          if (count < 0 || count > 1e6) throw InvalidInput(path + ": bad list size in " + where);
+          // Negated so that NaN fails too (fuzz finding: a NaN count reached the int cast).
+          if (!(count >= 0 && count <= 1e6)) throw InvalidInput(path + ": bad list size in " + where);
           for (int j = 0; j < static_cast<int>(count); ++j) {
             double value = source.read(prop.type, where);
             if (static_cast<int>(k) == fi) {
               if (value < 0 || value >= static_cast<double>(std::max(vertex_count, 0LL)) ||
                   value != std::floor(value))
-                throw InvalidInput(path + ": " + where + " refers to vertex " +
-                                   std::to_string(static_cast<long long>(value)) +
+                // %.17g, not a cast: 1.3e32 or NaN do not fit a long long (fuzz finding).
+                throw InvalidInput(path + ": " + where + " refers to vertex " + number_text(value) +
                                    ", out of range");
               poly.push_back(static_cast<int>(value));
             }

@@ -71,6 +71,22 @@ TEST(HostileIo, PlyCountsBeyondTheFileAreRejectedAndEmptyElementsCostNothing) {
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 1.0);
 }
 
+// Fuzz findings (tests/fuzz/ply_fuzz.cpp): a vertex index of 1.3e32 was cast to long long for
+// the message, a NaN list size to int (both undefined behaviour).
+TEST(HostileIo, PlyHugeOrNanValuesAreReportedNotCast) {
+  const fs::path dir = temp_dir("ply_cast");
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\n"
+      "property double z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  std::string m = message_of([&] {
+    io::read_soup(write(dir / "huge.ply", header + "3 0 2 131111111111111111111111111111111\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"));
+  });
+  EXPECT_NE(m.find("face 0 refers to vertex 1.3111111111111111e+32, out of range"), std::string::npos) << m;
+  m = message_of([&] { io::read_soup(write(dir / "nan.ply", header + "nan 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n")); });
+  EXPECT_NE(m.find("bad list size in face 0"), std::string::npos) << m;
+}
+
 TEST(HostileIo, ReadFileRefusesDirectoriesAndStopsAtTheLimit) {
   const fs::path dir = temp_dir("read");
   std::string m = message_of([&] { io::read_file(dir.string()); });
