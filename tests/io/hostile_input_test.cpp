@@ -143,6 +143,25 @@ TEST(HostileIo, TolerancesBelowDoublePrecisionAreRejected) {
   EXPECT_EQ(segments_for_tolerance(1e-100, 1e-101), sides_by_search(1e-100, 1e-101));
 }
 
+// Fuzz finding (tests/fuzz/commands_fuzz.cpp): a prism hole with a vertex on the outline made
+// a body pinched along a vertical edge, accepted but written as an OFF file hedra rejects
+// ("not closed"). Touching loops are refused; a hole strictly inside still builds.
+TEST(HostileIo, PrismHoleTouchingItsOutlineIsRejected) {
+  const Polygon2 square{{0, 0}, {3, 0}, {3, 3}, {0, 3}};
+  std::string m = message_of([&] { prism(square, 0, 1, {{{0, 1}, {2, 1}, {2, 2}, {1, 2}}}); });
+  EXPECT_EQ(m, "prism hole 0 touches the outline at (0, 1)");
+  m = message_of([&] { prism(square, 0, 1, {{{1, 1}, {1.5, 1}, {1.5, 2}}, {{1.5, 1.5}, {2, 1}, {2, 2}}}); });
+  EXPECT_EQ(m, "prism hole 1 touches hole 0 at (1.5, 1.5)");
+  m = message_of([&] { prism(square, 0, 1, {{{1, 1}, {2, 1}, {3, 3}}}); });
+  EXPECT_EQ(m, "prism hole 0 touches the outline at (3, 3)");
+  const Body ok = prism(square, 0, 1, {{{1, 1}, {2, 1}, {2, 2}, {1, 2}}});
+  EXPECT_EQ(ok.volume(), 8.0);
+  // Written as OFF and read back: the same volume.
+  const fs::path dir = temp_dir("prism_hole");
+  io::write_bodies({ok}, (dir / "p.off").string());
+  EXPECT_EQ(io::read_bodies((dir / "p.off").string()).at(0).volume(), 8.0);
+}
+
 TEST(HostileIo, OutputTransactionIsAllOrNothing) {
   const fs::path dir = temp_dir("transaction");
   {

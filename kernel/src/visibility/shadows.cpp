@@ -821,7 +821,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
           partial.push_back(l);
       }
       if (whole == 0 && partial.empty()) return;
-      auto add = [&](int count, double area, std::vector<ShadowPolygon> polys) {
+      auto add = [&, f = f](int count, double area, std::vector<ShadowPolygon> polys) {
         per_face[i].push_back({bd.scene_index, f, count, area, std::move(polys)});
       };
       auto lifted = [&](const UnionResult& u) {
