@@ -172,7 +172,7 @@ Sign direction_sign_fast(const ExactPlane& f, const Vec3& d) {
   return direction_sign(f, d);
 }
 
-// Exactly facing() of kernel/occlusion.h, on a cached face plane.
+// Exactly facing() of hedra/visibility/occlusion.h, on a cached face plane.
 Facing facing_of(const ExactPlane& plane, const Viewpoint& view) {
   if (view.at_infinity) {
     const Sign s = direction_sign_fast(plane, view.direction);
@@ -508,7 +508,7 @@ ShadowPolygon whole_face(const Body& body, int f) {
   return s;
 }
 
-// occlusion_volume() of kernel/occlusion.h on cached face planes: the same planes, built the
+// occlusion_volume() of occlusion.h on cached face planes: the same planes, built the
 // same way (front faces, then the planes through the silhouette edges and the viewpoint or
 // parallel to its direction, each oriented by a vertex strictly off it). Only the clipper is
 // filled in (front_faces and silhouette stay empty: nothing here reads them).
@@ -554,7 +554,7 @@ OcclusionVolume volume_of(const PieceData& piece, const Viewpoint& view) {
   return out;
 }
 
-// Exact convexity (kernel/convexity.h's test: no vertex strictly outside a face plane) on the
+// Exact convexity (hedra/mesh/convexity.h's test: no vertex strictly outside a face plane) on the
 // cached planes.
 bool convex_by_planes(const Body& body, const std::vector<ExactPlane>& planes) {
   std::vector<int> on_face(static_cast<size_t>(body.vertex_count()), -1);

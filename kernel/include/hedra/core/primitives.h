@@ -30,8 +30,8 @@ class FaceBudgetExceeded : public InvalidInput {
   using InvalidInput::InvalidInput;
 };
 
-/// Axis-aligned box. Faces in the course's order: x = min, x = max, y = min, y = max,
-/// z = min, z = max, so box({−1,−1,−1}, {1,1,1}).matrix() is the course's matrix.
+/// Axis-aligned box (docs/algorithms.md §1). Faces in the course's order: x = min, x = max, y =
+/// min, y = max, z = min, z = max, so box({−1,−1,−1}, {1,1,1}).matrix() is the course's matrix.
 /// \throw InvalidInput unless min < max in every coordinate.
 Body box(const Vec3& min, const Vec3& max);
 
@@ -39,7 +39,7 @@ Body box(const Vec3& min, const Vec3& max);
 /// polygonal holes, extruded from z = z0 to z = z1. Consecutive collinear outline vertices are
 /// dropped (they would only split side faces). Faces: bottom, top, then one side face per
 /// outline edge and per hole edge. \throw InvalidInput on self-crossing outlines, holes
-/// outside the outline, or z0 >= z1.
+/// outside the outline, holes touching the outline or each other, or z0 >= z1.
 Body prism(const Polygon2& outline, double z0, double z1,
            const std::vector<Polygon2>& holes = {});
 
