@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "cli/info.h"
+#include "cli/usage.h"
 #include "hedra/io/atomic_file.h"
 #include "hedra/io/report_json.h"
 #include "hedra/core/error.h"
@@ -164,12 +165,35 @@ std::string shadows_svg(const Scene& scene, const ShadowResult& result, const st
   return svg;
 }
 
+// The grid's spacing: a finite positive number that puts at most kMaxGridPoints samples on the
+// face (its bounding box over spacing², so 1e-300 does not ask for 1e600 points).
+constexpr double kMaxGridPoints = 1e6;
+void check_grid(const Scene& scene, const SunStudyOptions& o) {
+  if (!(o.grid_spacing > 0) || !std::isfinite(o.grid_spacing))
+    throw UsageError("--grid: the spacing must be a finite positive number, got " +
+                     format_number(o.grid_spacing));
+  if (!scene.contains(o.grid_body)) return;  // the study names a missing body itself
+  const Body& body = scene.get(o.grid_body).body;
+  if (o.grid_face < 0 || o.grid_face >= body.face_count()) return;
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (const auto& loop : body.faces()[static_cast<size_t>(o.grid_face)].loops)
+    for (int v : loop) box.extend(body.vertices()[static_cast<size_t>(v)]);
+  const Vec3 size = box.sizes();
+  const double points = (size.maxCoeff() / o.grid_spacing + 1) * (size.maxCoeff() / o.grid_spacing + 1);
+  if (points > kMaxGridPoints)
+    throw UsageError("--grid: spacing " + format_number(o.grid_spacing) + " puts about " +
+                     format_number(points) + " sample points on face " +
+                     std::to_string(o.grid_face) + " of '" + o.grid_body + "' (at most " +
+                     format_number(kMaxGridPoints) + ")");
+}
+
 }  // namespace
 
 CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
   CLI::App* sub = app.add_subcommand(
       "shadows", "Self shadows, exact cast-shadow polygons and sun hours of a scene's faces");
-  sub->add_option("scene", command.scene_file, "scene file (.json)")->required();
+  sub->add_option("scene", command.scene_file, "scene or mesh file")->required();
   sub->add_option("--json", command.json_file, "write the report: faces, polygons, counts (JSON)");
   sub->add_option("--svg", command.svg_file,
                   "write the shadows over the hidden-line drawing (SVG)");
@@ -190,8 +214,7 @@ CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
       ->expected(3);
   sub->add_flag("--visible", command.visible_parts,
                 "report the parts of the shadows the camera sees (always with --svg)");
-  sub->add_option("--threads", command.threads, "worker threads (default: all)")
-      ->check(CLI::NonNegativeNumber);
+  add_threads_option(*sub, command.threads);
   return sub;
 }
 
@@ -229,13 +252,14 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
         o.grid_face = std::stoi(command.grid[1]);
         o.grid_spacing = std::stod(command.grid[2]);
       } catch (const std::exception&) {
-        throw InvalidInput("--grid: expected BODY FACE SPACING, got '" + command.grid[1] + " " +
-                           command.grid[2] + "'");
+        throw UsageError("--grid: expected BODY FACE SPACING, got '" + command.grid[1] + " " +
+                         command.grid[2] + "'");
       }
+      check_grid(scene, o);
     }
     study_options = o;
   } else if (!command.grid.empty()) {
-    throw InvalidInput("--grid needs --sun-hours");
+    throw UsageError("--grid needs --sun-hours");
   }
 
   // The computation, timed without file I/O.
@@ -267,8 +291,10 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
       throw InvalidInput(command.scene_file + ": " + e.what());
     }
   }
-  if (!command.json_file.empty()) io::write_file_atomically(command.json_file, json_text);
-  if (!command.svg_file.empty()) io::write_file_atomically(command.svg_file, svg_text);
+  io::OutputTransaction outputs;  // both files or neither
+  if (!command.json_file.empty()) outputs.add(command.json_file, json_text);
+  if (!command.svg_file.empty()) outputs.add(command.svg_file, svg_text);
+  outputs.commit();
 
   // Summary.
   char buf[256];

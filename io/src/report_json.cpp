@@ -126,7 +126,7 @@ std::string hidden_lines_json(const HlrResult& result, double ms) {
   j["hidden"] = segments_json(result.hidden, LineKind::Edge);
   j["junction"] = segments_json(result.visible, LineKind::Junction);
   j["ms"] = ms;
-  return j.dump();
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 std::string shadows_json(const Scene& scene, const std::string& scene_name,
@@ -170,12 +170,12 @@ std::string shadows_json(const Scene& scene, const std::string& scene_name,
   j["counts"] = std::move(counts);
   if (study != nullptr && study_options != nullptr)
     j["sun_study"] = sun_study_object(scene, *study_options, *study);
-  return j.dump();
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 std::string sun_study_json(const Scene& scene, const SunStudyOptions& options,
                            const SunStudy& study) {
-  return sun_study_object(scene, options, study).dump();
+  return sun_study_object(scene, options, study).dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
 }  // namespace hedra::io

@@ -415,6 +415,9 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
   const int height = options.height > 0 ? options.height : scene.camera.height;
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
     throw InvalidInput("image size must be between 1 and 65536 pixels");
+  if (static_cast<long long>(width) * height > kMaxImagePixels)
+    throw InvalidInput("image size " + std::to_string(width) + " x " + std::to_string(height) +
+                       " is more than " + std::to_string(kMaxImagePixels) + " pixels");
   if (options.aa != 1 && options.aa != 4 && options.aa != 16)
     throw InvalidInput("--aa must be 1, 4 or 16 samples per pixel");
   if (options.tile_size < 4 || options.tile_size > 1024)

@@ -898,7 +898,8 @@ class Roberts {
     const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
     Scratch scratch;
     std::vector<int> ids;
-    for (const auto& [i, j] : touching_pairs()) {
+    for (const auto& [pair_i, pair_j] : touching_pairs()) {
+      const int i = pair_i, j = pair_j;  // lambdas below capture them (clang 14: not bindings)
       // A junction segment lies on face fa of body i and face fb of body j.
       const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
                                                detail::Candidates& out) {

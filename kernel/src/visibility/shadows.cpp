@@ -821,7 +821,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
           partial.push_back(l);
       }
       if (whole == 0 && partial.empty()) return;
-      auto add = [&](int count, double area, std::vector<ShadowPolygon> polys) {
+      auto add = [&, f = f](int count, double area, std::vector<ShadowPolygon> polys) {
         per_face[i].push_back({bd.scene_index, f, count, area, std::move(polys)});
       };
       auto lifted = [&](const UnionResult& u) {
@@ -1021,9 +1021,11 @@ SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
         hi = hi.cwiseMax(q);
       }
     const double s = options.grid_spacing / std::sqrt(fd.area_factor);  // spacing along the face
-    const long nx = static_cast<long>(std::ceil((hi.x() - lo.x()) / s)),
-               ny = static_cast<long>(std::ceil((hi.y() - lo.y()) / s));
-    if (nx * ny > 1000000) throw InvalidInput("sun study: the grid has more than a million points");
+    // Counted in double first: a tiny spacing would overflow a long (1e-300 gives 1e300).
+    const double cells_x = std::ceil((hi.x() - lo.x()) / s), cells_y = std::ceil((hi.y() - lo.y()) / s);
+    if (!(cells_x * cells_y <= 1000000))
+      throw InvalidInput("sun study: the grid has more than a million points");
+    const long nx = static_cast<long>(cells_x), ny = static_cast<long>(cells_y);
     for (long y = 0; y < ny; ++y)
       for (long x = 0; x < nx; ++x) {
         const Vec2 q(lo.x() + (x + 0.5) * s, lo.y() + (y + 0.5) * s);

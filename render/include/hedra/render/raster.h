@@ -70,11 +70,16 @@ struct SurfaceShadow {
 /// Per light (in the order of Scene::lights), its surface shadows.
 using SurfaceShadows = std::vector<std::vector<SurfaceShadow>>;
 
+/// Most pixels of one image (8192²): bounds the image buffers (3 bytes per pixel) whatever
+/// the scene file or the options ask for.
+constexpr long long kMaxImagePixels = 1LL << 26;
+
 struct RenderOptions {
   /// Image size; 0 takes the scene camera's (the scene file's "image").
   int width = 0, height = 0;
   Shading shading = Shading::Phong;
-  ShadowSettings shadows;
+  /// Exact shadow polygons by default, as `hedra render`.
+  ShadowSettings shadows{ShadowSettings::Method::Exact};
   /// Samples per pixel: 1, 4 (2 × 2) or 16 (4 × 4), averaged (supersampling).
   int aa = 1;
   /// Ambient intensity I_a (white).
@@ -123,7 +128,8 @@ struct RenderStats {
 };
 
 /// Renders the visible bodies of the scene with its camera and lights.
-/// \throw InvalidInput for bad options (aa not 1/4/16, sizes out of 1…65536, more than 32
+/// \throw InvalidInput for bad options (aa not 1/4/16, sizes out of 1…65536 or more than
+///   kMaxImagePixels pixels, more than 32
 ///   lights with shadows on) or a bad camera. Cost O(faces + pixels·aa·lights) plus the
 ///   shadow method's (rays: O(log faces) per probe).
 Image render(const Scene& scene, const RenderOptions& options, SampleRecord* record = nullptr,
