@@ -7,29 +7,81 @@
 #include "visibility/shadows_internal.h"
 
 namespace hedra {
+namespace {
 
-using internal::CasterIndex;
 using internal::ShadowBody;
+using internal::CasterIndex;
 using internal::ShadowFace;
 using internal::ShadowSceneAccess;
 
-SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
+// The schedule: step k at k · step minutes after the start for k = 0 … whole, and one more
+// step at the end when it is not on a step (more than 1e-9 minutes after the last).
+struct Schedule {
+  double span = 0;  // minutes from start to end
+  long whole = 0;   // whole steps within the span
+  int steps = 0;    // steps in all
+};
+
+Schedule schedule_of(const SunStudyOptions& options) {
   if (!(options.step_minutes > 0) || !std::isfinite(options.step_minutes))
     throw InvalidInput("sun study: the step must be a positive number of minutes");
-  const double span = minutes_between(options.start, options.end);
-  if (span < 0)
+  Schedule s;
+  s.span = minutes_between(options.start, options.end);
+  if (s.span < 0)
     throw InvalidInput("sun study: the end " + options.end.to_string() + " is before the start " +
                        options.start.to_string());
-  const double count = std::floor(span / options.step_minutes + 1e-9);
+  const double count = std::floor(s.span / options.step_minutes + 1e-9);
   if (count > 10000) throw InvalidInput("sun study: more than 10000 steps");
+  s.whole = static_cast<long>(count);
+  const bool extra = !(s.span - s.whole * options.step_minutes <= 1e-9);  // end not sampled
+  s.steps = static_cast<int>(s.whole + 1 + (extra ? 1 : 0));
+  return s;
+}
+
+// Minutes after the start of step k of the schedule.
+double minutes_of(const Schedule& s, const SunStudyOptions& options, long k) {
+  return k == s.whole + 1 ? s.span : k * options.step_minutes;
+}
+
+// sun_hours and grid_hours over the steps, step k of the study being step first + k of the
+// schedule: the trapezoid rule between consecutive steps, accumulated in step order (the one
+// place that sums them, so slices joined later give the same bits).
+void integrate(SunStudy& study, size_t nf, const Schedule& s, const SunStudyOptions& options) {
+  study.sun_hours.assign(nf, 0);
+  study.grid_hours.assign(study.grid_points.size(), 0);
+  for (size_t k = 1; k < study.steps.size(); ++k) {
+    const long at = study.first_step + static_cast<long>(k);
+    const double hours = (minutes_of(s, options, at) - minutes_of(s, options, at - 1)) / 60;
+    const SunStep &last = study.steps[k - 1], &step = study.steps[k];
+    for (size_t i = 0; i < nf; ++i)
+      study.sun_hours[i] += 0.5 * (last.lit_fraction[i] + step.lit_fraction[i]) * hours;
+    for (size_t g = 0; g < step.grid_lit.size(); ++g)
+      study.grid_hours[g] +=
+          0.5 * (static_cast<double>(last.grid_lit[g]) + static_cast<double>(step.grid_lit[g])) *
+          hours;
+  }
+}
+
+}  // namespace
+
+int sun_study_steps(const SunStudyOptions& options) { return schedule_of(options).steps; }
+
+SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
+  const Schedule schedule = schedule_of(options);
   sun_position(options.latitude, options.longitude, options.start);  // validates the place
+  const int first = options.first_step;
+  const int count = options.step_count < 0 ? schedule.steps - first : options.step_count;
+  if (first < 0 || first > schedule.steps || count < 0 || count > schedule.steps - first)
+    throw InvalidInput("sun study: steps " + std::to_string(first) + " to " +
+                       std::to_string(first + count - 1) + " lie outside the schedule's " +
+                       std::to_string(schedule.steps) + " steps");
 
   const ShadowScene prepared(scene);
   const auto& m = ShadowSceneAccess::impl(prepared);
   SunStudy study;
+  study.first_step = first;
   study.first_face = m.first_face;
   const size_t nf = m.faces.size();
-  study.sun_hours.assign(nf, 0);
 
   // The grid on the chosen face.
   int grid_b = -1, grid_f = options.grid_face;
@@ -69,30 +121,21 @@ SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
         }
         if (inside) study.grid_points.push_back(fd.lift(q));
       }
-    study.grid_hours.assign(study.grid_points.size(), 0);
   }
 
-  std::vector<double> grid_prev(study.grid_points.size(), 0);
   ShadowOptions so;
   so.polygons = false;
   so.counts = false;
   so.threads = options.threads;
-  const long steps = static_cast<long>(count);
-  double prev_time = 0;
-  for (long k = 0; k <= steps + 1; ++k) {
-    double minutes = k * options.step_minutes;
-    if (k == steps + 1) {
-      if (span - steps * options.step_minutes <= 1e-9) break;  // end already sampled
-      minutes = span;
-    }
+  for (long k = first; k < first + count; ++k) {
     SunStep step;
-    step.time = add_minutes(options.start, minutes);
+    step.time = add_minutes(options.start, minutes_of(schedule, options, k));
     const SunPosition sun = sun_position(options.latitude, options.longitude, step.time);
     step.elevation_deg = sun.elevation_deg;
     step.azimuth_deg = sun.azimuth_deg;
     step.sun_up = sun.elevation_deg > 0;
     step.lit_fraction.assign(nf, 0);
-    std::vector<double> grid_now(study.grid_points.size(), 0);
+    step.grid_lit.assign(study.grid_points.size(), 0);
     if (step.sun_up) {
       Light light;
       light.type = Light::Type::Sun;
@@ -112,26 +155,43 @@ SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
           const std::vector<OcclusionVolume> volumes = m.volumes(view, options.threads);
           const CasterIndex index(m.pieces, volumes, view, m.scale);
           parallel_for(study.grid_points.size(), options.threads, [&](size_t g) {
-            grid_now[g] =
+            step.grid_lit[g] =
                 m.point_hidden(grid_b, grid_f, study.grid_points[g], index, volumes) ? 0 : 1;
           });
         }
       }
     }
-    // Trapezoid rule between this step and the previous one.
-    if (!study.steps.empty()) {
-      const double hours = (minutes - prev_time) / 60;
-      const SunStep& last = study.steps.back();
-      for (size_t i = 0; i < nf; ++i)
-        study.sun_hours[i] += 0.5 * (last.lit_fraction[i] + step.lit_fraction[i]) * hours;
-      for (size_t g = 0; g < grid_now.size(); ++g)
-        study.grid_hours[g] += 0.5 * (grid_prev[g] + grid_now[g]) * hours;
-    }
-    prev_time = minutes;
-    grid_prev = std::move(grid_now);
     study.steps.push_back(std::move(step));
   }
+  integrate(study, nf, schedule, options);
   return study;
+}
+
+SunStudy combine_sun_studies(const std::vector<SunStudy>& parts, const SunStudyOptions& whole) {
+  const Schedule schedule = schedule_of(whole);
+  SunStudy out;
+  int next = 0;
+  for (size_t p = 0; p < parts.size(); ++p) {
+    const SunStudy& part = parts[p];
+    if (part.first_step != next)
+      throw InvalidInput("sun study: slice " + std::to_string(p) + " starts at step " +
+                         std::to_string(part.first_step) + ", expected step " +
+                         std::to_string(next));
+    if (p == 0) {
+      out.first_face = part.first_face;
+      out.grid_points = part.grid_points;
+    } else if (part.first_face != out.first_face || part.grid_points != out.grid_points) {
+      throw InvalidInput("sun study: slice " + std::to_string(p) +
+                         " has other faces or another grid than slice 0");
+    }
+    out.steps.insert(out.steps.end(), part.steps.begin(), part.steps.end());
+    next += static_cast<int>(part.steps.size());
+  }
+  if (next != schedule.steps)
+    throw InvalidInput("sun study: the slices cover " + std::to_string(next) + " of the " +
+                       std::to_string(schedule.steps) + " steps");
+  integrate(out, out.steps.front().lit_fraction.size(), schedule, whole);
+  return out;
 }
 
 }  // namespace hedra
