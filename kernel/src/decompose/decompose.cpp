@@ -48,7 +48,7 @@ std::vector<Reflex> reflex_edges(const Context& ctx, const Piece& piece) {
       const int a = t1.v[i], b = t1.v[(i + 1) % 3];
       if (a > b) continue;  // each undirected edge once
       auto it = owner.find(key(b, a));
-      if (it == owner.end()) throw std::logic_error("decompose: a piece is not closed");
+      HEDRA_ASSERT(it != owner.end(), "decompose: a piece is not closed");
       const Tri& t2 = piece.tris[it->second];
       if (t1.plane == t2.plane && t1.sign == t2.sign) continue;  // flat
       int apex = t2.v[0] + t2.v[1] + t2.v[2] - a - b;
@@ -86,7 +86,7 @@ int choose_cut(const Context& ctx, const Piece& piece, const std::vector<Reflex>
       best_crossed = crossed;
     }
   }
-  if (best_resolved <= 0) throw std::logic_error("decompose: no cut resolves a reflex edge");
+  HEDRA_ASSERT(best_resolved > 0, "decompose: no cut resolves a reflex edge");
   return best;
 }
 
@@ -193,7 +193,7 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
           middle = i;
     }
     if (flat == tris.size()) break;
-    if (middle < 0) throw std::logic_error("decompose: a merged hull has a repeated point");
+    HEDRA_ASSERT(middle >= 0, "decompose: a merged hull has a repeated point");
     const std::array<int, 3> t = tris[flat];
     const int m = t[middle], p = t[(middle + 1) % 3], q = t[(middle + 2) % 3];
     size_t u = tris.size();
@@ -201,7 +201,7 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
     for (size_t k = 0; k < tris.size() && u == tris.size(); ++k)
       for (int i = 0; i < 3; ++i)
         if (tris[k][i] == q && tris[k][(i + 1) % 3] == p) u = k, apex = tris[k][(i + 2) % 3];
-    if (u == tris.size()) throw std::logic_error("decompose: a merged hull is not closed");
+    HEDRA_ASSERT(u != tris.size(), "decompose: a merged hull is not closed");
     tris[u] = {q, m, apex};
     tris.push_back({m, p, apex});
     tris.erase(tris.begin() + static_cast<std::ptrdiff_t>(flat));
@@ -224,7 +224,7 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
         candidates[t].push_back(id);
     std::sort(candidates[t].begin(), candidates[t].end());
     candidates[t].erase(std::unique(candidates[t].begin(), candidates[t].end()), candidates[t].end());
-    if (candidates[t].empty()) throw std::logic_error("decompose: a merged face lies on no face plane");
+    HEDRA_ASSERT(!candidates[t].empty(), "decompose: a merged face lies on no face plane");
     normal[t] = (d(pts[v[1]].p) - d(pts[v[0]].p)).cross(d(pts[v[2]].p) - d(pts[v[0]].p));
     const bool thin = normal[t].norm() <= 1e-6 * scale * scale;
     if (candidates[t].size() == 1) {
@@ -353,7 +353,7 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
       Sides sides = split_piece(ctx, open[i], choose_cut(ctx, open[i], reflex));
       // Exactly, a plane through a reflex edge always has the piece on both sides; with an
       // epsilon it may not, and the piece would come back unchanged for ever.
-      if (!sides.cut) throw std::logic_error("the plane of a reflex edge does not cut its piece");
+      HEDRA_ASSERT(sides.cut, "the plane of a reflex edge does not cut its piece");
       for (Piece& p : sides.below) next[i].push_back(std::move(p));
       for (Piece& p : sides.above) next[i].push_back(std::move(p));
     });
@@ -375,6 +375,8 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
         !options.progress(static_cast<int>(done.size()), static_cast<int>(open.size())))
       throw DecompositionCancelled();
   }
+  for (const Piece& p : done)
+    HEDRA_EXPENSIVE_ASSERT(reflex_edges(ctx, p).empty(), "decompose: a finished piece is not convex");
   auto canonical = [&] {
     std::sort(done.begin(), done.end(), [](const Piece& a, const Piece& b) {
       return smallest_point(a) < smallest_point(b);

@@ -165,7 +165,7 @@ std::vector<std::array<int, 3>> cap_triangles(const Context& ctx, int plane,
   try {
     for (const auto& [a, b] : segments) cdt.insert_constraint(vertex(a), vertex(b));
   } catch (const Cdt::Intersection_of_constraints_exception&) {
-    throw std::logic_error("split: the cut's boundary crosses itself");
+    HEDRA_UNREACHABLE("split: the cut's boundary crosses itself");
   }
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
   std::list<Cdt::Face_handle> queue{cdt.infinite_face()};
@@ -225,7 +225,7 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
     } else {
       auto hit = CGAL::intersection(EK::Segment_3(pts[lo].p, pts[hi].p), ctx.planes[plane]);
       const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
-      if (!x) throw std::logic_error("split: an edge with ends on both sides misses the plane");
+      HEDRA_ASSERT(x, "split: an edge with ends on both sides misses the plane");
       q.p = *x;
     }
     std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),
@@ -308,7 +308,7 @@ Body body_of(const Piece& piece) {
     ids.push_back(2 * t.plane + (t.sign > 0 ? 0 : 1));
   }
   std::vector<Body> bodies = bodies_from_soup(soup, ids);
-  if (bodies.size() != 1) throw std::logic_error("decompose: a piece fell apart");
+  HEDRA_ASSERT(bodies.size() == 1, "decompose: a piece fell apart");
   return bodies[0];
 }
 

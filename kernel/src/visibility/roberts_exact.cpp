@@ -325,8 +325,8 @@ std::vector<Span> face_spans(const Body& body, int face, const ExactPlane& g, co
       }
     }
   }
-  if (crossings.size() % 2 != 0)
-    throw std::logic_error("junction lines: odd number of crossings of a face boundary");
+  HEDRA_ASSERT(crossings.size() % 2 == 0,
+               "junction lines: odd number of crossings of a face boundary");
   std::sort(crossings.begin(), crossings.end(),
             [axis](const HPoint& a, const HPoint& b) { return cmp_along(a, b, axis) < 0; });
   std::vector<Span> spans;
