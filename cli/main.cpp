@@ -178,6 +178,9 @@ int main(int argc, char** argv) {
     return fail(e.what(), kExitInvalidInput);
   } catch (const hedra::IoError& e) {
     return fail(e.what(), kExitInvalidInput);
+  } catch (const hedra::InternalError& e) {
+    std::cerr << "hedra: internal error: " << hedra::cli::sanitize_message(e.what()) << "\n";
+    return 1;
   } catch (const std::bad_alloc&) {
     // Resource guards keep every input within stated limits (docs/io.md); reaching this is a
     // bug, but the message says what happened rather than "std::bad_alloc".
