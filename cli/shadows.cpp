@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "cli/distributed_study.h"
 #include "cli/info.h"
 #include "hedra/io/atomic_file.h"
 #include "hedra/core/error.h"
@@ -244,6 +245,14 @@ CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
                 "report the parts of the shadows the camera sees (always with --svg)");
   sub->add_option("--threads", command.threads, "worker threads (default: all)")
       ->check(CLI::NonNegativeNumber);
+  auto* workers = sub->add_option("--workers", command.workers,
+                                  "with --sun-hours: run the study on a local Dask cluster of N "
+                                  "processes (docs/distributed.md)")
+                      ->check(CLI::PositiveNumber);
+  sub->add_option("--scheduler", command.scheduler,
+                  "with --sun-hours: run the study on the Dask cluster of this scheduler "
+                  "(tcp://host:8786)")
+      ->excludes(workers);
   return sub;
 }
 
@@ -289,6 +298,10 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   } else if (!command.grid.empty()) {
     throw InvalidInput("--grid needs --sun-hours");
   }
+  const bool on_dask = command.workers > 0 || !command.scheduler.empty();
+  if (on_dask && !study_options)
+    throw InvalidInput(std::string(command.workers > 0 ? "--workers" : "--scheduler") +
+                       " needs --sun-hours");
 
   // The computation, timed without file I/O.
   ShadowOptions options;
@@ -297,9 +310,14 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   const auto t0 = std::chrono::steady_clock::now();
   ShadowResult result;
   std::optional<SunStudy> study;
+  std::optional<json> dask_study;  // the `sun_study` JSON of a study run on a Dask cluster
   try {
     result = compute_shadows(scene, options);
-    if (study_options) study = sun_study(scene, *study_options);
+    if (study_options && on_dask)
+      dask_study = distributed_sun_study(command.scene_file, *study_options,
+                                         {command.workers, command.scheduler});
+    else if (study_options)
+      study = sun_study(scene, *study_options);
   } catch (const InvalidInput& e) {
     throw InvalidInput(command.scene_file + ": " + e.what());
   }
@@ -380,6 +398,7 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
       }
       j["sun_study"] = std::move(st);
     }
+    if (dask_study) j["sun_study"] = *dask_study;
     json_text = j.dump() + "\n";
   }
   if (!command.svg_file.empty()) {
@@ -441,6 +460,7 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
                   study_options->end.to_string().c_str(), up, lo, hi);
     out << buf;
   }
+  if (dask_study) out << sun_study_summary(*dask_study);
   if (!command.json_file.empty() || !command.svg_file.empty()) {
     out << "wrote";
     if (!command.json_file.empty()) out << " " << command.json_file;
