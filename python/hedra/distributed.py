@@ -139,7 +139,9 @@ def sun_study(scene, start, end, step_minutes: float, client=None, chunk: int | 
     """The sun study of `scene` (a hedra.Scene or a scene file) on a Dask cluster: the same
     SunStudy as ``hedra.sun_study(scene, start, end, step_minutes, **options)``, bit for bit.
 
-    chunk: steps per task (default: about four tasks per worker thread). client: a
+    options: those of hedra.sun_study (latitude, longitude, grid=(body, face, spacing),
+    threads: kernel threads per task, default 1). chunk: steps per task (default: about four
+    tasks per worker thread). client: a
     distributed.Client; None starts a LocalCluster of `workers` processes (default: one per
     core) and closes it after. retries: how often a task that raised is run again (a worker
     that dies is replaced by its nanny and its tasks rescheduled by Dask in any case).
@@ -149,6 +151,9 @@ def sun_study(scene, start, end, step_minutes: float, client=None, chunk: int | 
     """
     if isinstance(scene, (str, os.PathLike)):
         scene = hedra.read(os.fspath(scene))
+    # One kernel thread per task: a worker process is one core (dask worker --nthreads 1);
+    # the result does not depend on it.
+    options.setdefault("threads", 1)
     start_text, end_text = _iso(start), _iso(end)
     total = step_count(start, end, step_minutes)
     with _client_or_local(client, workers) as c:
@@ -281,7 +286,7 @@ def _shadows(args) -> int:
     options = {}
     if args.grid:
         body, face, spacing = args.grid
-        options.update(grid_body=body, grid_face=int(face), grid_spacing=float(spacing))
+        options["grid"] = (body, int(face), float(spacing))
     if args.scheduler:
         from distributed import Client
 
