@@ -38,14 +38,17 @@ const char* light_type_name(Light::Type t) {
 // The command's reading of a file (cli/info.cpp load_scene): a scene file as it is, a mesh file
 // as a scene of its bodies ("stem", or "stem#i" for several) seen parallel from (1, 2, 1.5)
 // towards the origin under a directional light from the same side.
-PyScene read_any(const std::string& path) {
+PyScene read_any(const std::string& path, double coplanar_tolerance, std::optional<double> planarity_tolerance) {
   PyScene out;
   out.source = path;
   if (io::is_scene_path(path)) {
     out.scene = io::read_scene(path);
     return out;
   }
-  const std::vector<Body> bodies = io::read_bodies(path);
+  io::ReadOptions options;
+  options.merge.coplanar_tolerance = coplanar_tolerance;
+  if (planarity_tolerance) options.merge.planarity_tolerance = *planarity_tolerance;
+  const std::vector<Body> bodies = io::read_bodies(path, options);
   const std::string stem = std::filesystem::path(path).stem().string();
   for (size_t i = 0; i < bodies.size(); ++i)
     out.scene.add(bodies.size() == 1 ? stem : stem + "#" + std::to_string(i), bodies[i]);
@@ -54,7 +57,13 @@ PyScene read_any(const std::string& path) {
   return out;
 }
 
-void write_any(const py::handle& what, const std::string& path, bool stl_ascii) {
+// A str or os.PathLike as a file name.
+std::string path_of(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path)).cast<std::string>();
+}
+
+void write_any(const py::handle& what, const py::object& path_like, bool stl_ascii) {
+  const std::string path = path_of(path_like);
   if (py::isinstance<PyBody>(what)) {
     const PyBody& b = what.cast<const PyBody&>();
     if (io::is_scene_path(path)) {
@@ -136,6 +145,63 @@ Light light_from(const py::tuple& t) {
   l.time.minute = u[4].cast<int>();
   l.time.second = u[5].cast<double>();
   return l;
+}
+
+py::tuple scene_state(const PyScene& s) {
+  py::list bodies;
+  for (const SceneBody& b : s.scene.bodies())
+    bodies.append(py::make_tuple(b.name, py::cast(PyBody{b.body, SmoothSurface()}).attr("__getstate__")(),
+                                 material_state(b.material), b.hidden, b.lod_note));
+  py::list lights;
+  for (const Light& l : s.scene.lights) lights.append(light_state(l));
+  return py::make_tuple(1, bodies, camera_state(s.scene.camera), lights,
+                        tuple3(s.scene.image.background), s.source);
+}
+
+PyScene scene_from(const py::tuple& t) {
+  if (t.size() != 6 || t[0].cast<int>() != 1) throw InvalidInput("Scene: unknown pickle state");
+  PyScene s;
+  py::object body_type = py::module_::import("hedra._hedra").attr("Body");
+  for (const py::handle item : t[1].cast<py::list>()) {
+    const py::tuple b = item.cast<py::tuple>();
+    py::object body = body_type.attr("__new__")(body_type);
+    body.attr("__setstate__")(b[1]);
+    SceneBody& added = s.scene.add(b[0].cast<std::string>(), body.cast<const PyBody&>().body,
+                                   material_from(b[2].cast<py::tuple>()));
+    added.hidden = b[3].cast<bool>();
+    added.lod_note = b[4].cast<std::string>();
+  }
+  s.scene.camera = camera_from(t[2].cast<py::tuple>());
+  for (const py::handle l : t[3].cast<py::list>()) s.scene.lights.push_back(light_from(l.cast<py::tuple>()));
+  s.scene.image.background = vec3(t[4], "background");
+  s.source = t[5].cast<std::string>();
+  return s;
+}
+
+py::tuple time_state(const UtcTime& u) {
+  return py::make_tuple(u.year, u.month, u.day, u.hour, u.minute, u.second);
+}
+UtcTime time_from(const py::handle& h) {
+  const py::tuple u = h.cast<py::tuple>();
+  UtcTime t;
+  t.year = u[0].cast<int>();
+  t.month = u[1].cast<int>();
+  t.day = u[2].cast<int>();
+  t.hour = u[3].cast<int>();
+  t.minute = u[4].cast<int>();
+  t.second = u[5].cast<double>();
+  return t;
+}
+
+// Doubles as their bytes: exact.
+py::bytes doubles_bytes(const double* p, size_t n) {
+  return py::bytes(reinterpret_cast<const char*>(p), n * sizeof(double));
+}
+std::vector<double> doubles_from(const py::handle& h) {
+  const std::string b = h.cast<std::string>();
+  std::vector<double> v(b.size() / sizeof(double));
+  if (!v.empty()) std::memcpy(v.data(), b.data(), v.size() * sizeof(double));
+  return v;
 }
 
 std::vector<Light> lights_of(const py::handle& value) {
@@ -238,7 +304,8 @@ const Light* scene_sun(const Scene& scene) {
 
 PySunStudy run_sun_study(const PyScene& s, const std::string& start, const std::string& end,
                          double step_minutes, std::optional<double> latitude,
-                         std::optional<double> longitude, const py::object& grid, int threads) {
+                         std::optional<double> longitude, const py::object& grid, int threads,
+                         const std::string& grid_body, int grid_face, double grid_spacing) {
   const Light* sun = scene_sun(s.scene);
   SunStudyOptions o;
   if ((!latitude || !longitude) && sun == nullptr)
@@ -256,6 +323,10 @@ PySunStudy run_sun_study(const PyScene& s, const std::string& start, const std::
     o.grid_body = g[0].cast<std::string>();
     o.grid_face = g[1].cast<int>();
     o.grid_spacing = g[2].cast<double>();
+  } else if (!grid_body.empty()) {
+    o.grid_body = grid_body;
+    o.grid_face = grid_face;
+    o.grid_spacing = grid_spacing;
   }
   PySunStudy out{s.scene, o, {}};
   py::gil_scoped_release release;
@@ -463,43 +534,15 @@ void bind_scene(py::module_& m) {
                std::to_string(s.scene.lights.size()) + " lights" +
                (s.source.empty() ? std::string() : ", from " + s.source) + ")";
       })
-      .def(py::pickle(
-          [](const PyScene& s) {
-            py::list bodies;
-            py::object body_type = py::module_::import("hedra._hedra").attr("Body");
-            for (const SceneBody& b : s.scene.bodies())
-              bodies.append(py::make_tuple(b.name, py::cast(PyBody{b.body, SmoothSurface()}).attr("__getstate__")(),
-                                           material_state(b.material), b.hidden, b.lod_note));
-            py::list lights;
-            for (const Light& l : s.scene.lights) lights.append(light_state(l));
-            return py::make_tuple(1, bodies, camera_state(s.scene.camera), lights,
-                                  tuple3(s.scene.image.background), s.source);
-          },
-          [](const py::tuple& t) {
-            if (t.size() != 6 || t[0].cast<int>() != 1) throw InvalidInput("Scene: unknown pickle state");
-            PyScene s;
-            py::object body_type = py::module_::import("hedra._hedra").attr("Body");
-            for (const py::handle item : t[1].cast<py::list>()) {
-              const py::tuple b = item.cast<py::tuple>();
-              py::object body = body_type.attr("__new__")(body_type);
-              body.attr("__setstate__")(b[1]);
-              SceneBody& added = s.scene.add(b[0].cast<std::string>(), body.cast<const PyBody&>().body,
-                                             material_from(b[2].cast<py::tuple>()));
-              added.hidden = b[3].cast<bool>();
-              added.lod_note = b[4].cast<std::string>();
-            }
-            s.scene.camera = camera_from(t[2].cast<py::tuple>());
-            for (const py::handle l : t[3].cast<py::list>()) s.scene.lights.push_back(light_from(l.cast<py::tuple>()));
-            s.scene.image.background = vec3(t[4], "background");
-            s.source = t[5].cast<std::string>();
-            return s;
-          }));
+      .def(py::pickle(&scene_state, &scene_from));
 
   m.def("demo_scene", [] { return PyScene{demo_scene(), ""}; }, "The scene of `hedra demo`.");
-  m.def("read", [](const std::string& path) {
+  m.def("read", [](const py::object& path_like, double coplanar_tolerance, std::optional<double> planarity_tolerance) {
+    const std::string path = path_of(path_like);
     py::gil_scoped_release release;
-    return read_any(path);
-  }, py::arg("path"), "A scene (.json) or mesh file (OFF, OBJ, STL, PLY) as a Scene, as the command reads it.");
+    return read_any(path, coplanar_tolerance, planarity_tolerance);
+  }, py::arg("path"), py::arg("coplanar_tolerance") = 0.0, py::arg("planarity_tolerance") = py::none(),
+  "A scene (.json) or mesh file (OFF, OBJ, STL, PLY) as a Scene, as the command reads it.");
   m.def("write", &write_any, py::arg("what"), py::arg("path"), py::arg("stl_ascii") = false,
         "Writes a Scene or a Body: scene JSON or a mesh file by the extension, atomically.");
 
@@ -669,10 +712,60 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("longitude", [](const PySunStudy& s) { return s.options.longitude; })
       .def_property_readonly("step_minutes", [](const PySunStudy& s) { return s.options.step_minutes; })
       .def("to_json", [](const PySunStudy& s) { return io::sun_study_json(s.scene, s.options, s.study); },
-           "The 'sun_study' object of `hedra shadows --json --sun-hours` (one line).");
+           "The 'sun_study' object of `hedra shadows --json --sun-hours` (one line).")
+      .def(py::pickle(
+          [](const PySunStudy& s) {
+            // Every double as its bytes, so a study sent to another process comes back exact.
+            const SunStudyOptions& o = s.options;
+            py::list steps;
+            for (const SunStep& st : s.study.steps)
+              steps.append(py::make_tuple(time_state(st.time), st.elevation_deg, st.azimuth_deg, st.sun_up,
+                                          doubles_bytes(st.lit_fraction.data(), st.lit_fraction.size())));
+            std::vector<double> grid;
+            for (const Vec3& p : s.study.grid_points) grid.insert(grid.end(), {p.x(), p.y(), p.z()});
+            return py::make_tuple(
+                1, scene_state(PyScene{s.scene, ""}),
+                py::make_tuple(o.latitude, o.longitude, time_state(o.start), time_state(o.end), o.step_minutes,
+                               o.grid_body, o.grid_face, o.grid_spacing, o.threads),
+                steps, doubles_bytes(s.study.sun_hours.data(), s.study.sun_hours.size()),
+                py::cast(s.study.first_face), doubles_bytes(grid.data(), grid.size()),
+                doubles_bytes(s.study.grid_hours.data(), s.study.grid_hours.size()));
+          },
+          [](const py::tuple& t) {
+            if (t.size() != 8 || t[0].cast<int>() != 1) throw InvalidInput("SunStudy: unknown pickle state");
+            PySunStudy s;
+            s.scene = scene_from(t[1].cast<py::tuple>()).scene;
+            const py::tuple o = t[2].cast<py::tuple>();
+            s.options.latitude = o[0].cast<double>();
+            s.options.longitude = o[1].cast<double>();
+            s.options.start = time_from(o[2]);
+            s.options.end = time_from(o[3]);
+            s.options.step_minutes = o[4].cast<double>();
+            s.options.grid_body = o[5].cast<std::string>();
+            s.options.grid_face = o[6].cast<int>();
+            s.options.grid_spacing = o[7].cast<double>();
+            s.options.threads = o[8].cast<int>();
+            for (const py::handle h : t[3].cast<py::list>()) {
+              const py::tuple st = h.cast<py::tuple>();
+              SunStep step;
+              step.time = time_from(st[0]);
+              step.elevation_deg = st[1].cast<double>();
+              step.azimuth_deg = st[2].cast<double>();
+              step.sun_up = st[3].cast<bool>();
+              step.lit_fraction = doubles_from(st[4]);
+              s.study.steps.push_back(std::move(step));
+            }
+            s.study.sun_hours = doubles_from(t[4]);
+            s.study.first_face = t[5].cast<std::vector<int>>();
+            const std::vector<double> grid = doubles_from(t[6]);
+            for (size_t i = 0; i + 2 < grid.size(); i += 3) s.study.grid_points.emplace_back(grid[i], grid[i + 1], grid[i + 2]);
+            s.study.grid_hours = doubles_from(t[7]);
+            return s;
+          }));
   m.def("sun_study", &run_sun_study, py::arg("scene"), py::arg("start"), py::arg("end"),
         py::arg("step_minutes") = 60.0, py::arg("latitude") = py::none(),
         py::arg("longitude") = py::none(), py::arg("grid") = py::none(), py::arg("threads") = 0,
+        py::arg("grid_body") = "", py::arg("grid_face") = -1, py::arg("grid_spacing") = 0.0,
         "Shadows from start to end (ISO 8601 UTC, or hh:mm on the date of the scene's sun) every "
         "step_minutes; place from the scene's sun unless given. grid=(body, face, spacing).");
 
