@@ -18,6 +18,7 @@ import argparse
 import json
 import math
 import os
+import pickle
 import sys
 import tempfile
 import time
@@ -35,21 +36,37 @@ def _noop(i):
     return i
 
 
+def _cpu():
+    return time.process_time()
+
+
 def best_of(n, f):
-    times = []
+    """(wall, cpu) seconds of the fastest of n runs of f in this process."""
+    best = None
     for _ in range(n):
-        t0 = time.perf_counter()
+        w0, c0 = time.perf_counter(), time.process_time()
         f()
-        times.append(time.perf_counter() - t0)
-    return min(times)
+        t = (time.perf_counter() - w0, time.process_time() - c0)
+        best = t if best is None or t[0] < best[0] else best
+    return best
 
 
 def scheduler_cost(workers, tasks=2000):
+    """(tasks/s, wall s per task, scheduler + client CPU s per task, worker CPU s per task)
+    of empty tasks. The LocalCluster's scheduler runs in this process, so this process's CPU
+    time is the scheduler's and the client's."""
     with hd.local_cluster(workers) as c:
         c.wait_for_workers(workers)
-        c.gather(c.map(_noop, range(50), pure=False))  # warm up connections
-        wall = best_of(3, lambda: c.gather(c.map(_noop, range(tasks), pure=False)))
-    return tasks / wall, wall / tasks
+        c.gather(c.map(_noop, range(50), pure=False))  # warm up the connections
+        runs = []
+        for _ in range(3):
+            w_cpu = sum(c.run(_cpu).values())
+            w0, c0 = time.perf_counter(), time.process_time()
+            c.gather(c.map(_noop, range(tasks), pure=False))
+            wall, cpu = time.perf_counter() - w0, time.process_time() - c0
+            runs.append((wall, cpu, sum(c.run(_cpu).values()) - w_cpu))
+        wall, cpu, wcpu = min(runs)
+    return tasks / wall, wall / tasks, cpu / tasks, wcpu / tasks
 
 
 def city_scene(side, folder):
@@ -60,16 +77,21 @@ def city_scene(side, folder):
 
 
 def step_cost(scene, k):
-    """(seconds per step, seconds of preparation) of a single-process study, daytime steps."""
+    """Per step and for the preparation (paid once per task): (wall, cpu) seconds of a
+    single-process, single-thread study of daytime 15-minute steps: 1 step against k + 1."""
     start = f"{DAY}T10:00:00Z"
-    one = best_of(2, lambda: hedra.sun_study(scene, start, start, 60))
-    end = f"{DAY}T{10 + k // 4:02d}:{(k % 4) * 15:02d}:00Z"
-    many = best_of(2, lambda: hedra.sun_study(scene, start, end, 15))
-    per_step = (many - one) / k
-    return per_step, max(0.0, one - per_step)
+    minutes = 15 * k
+    end = f"{DAY}T{10 + minutes // 60:02d}:{minutes % 60:02d}:00Z"
+    one = best_of(3, lambda: hedra.sun_study(scene, start, start, 15, threads=1))
+    many = best_of(3, lambda: hedra.sun_study(scene, start, end, 15, threads=1))
+    per_step = tuple((m - o) / k for m, o in zip(many, one))
+    prep = tuple(max(0.0, o - p) for o, p in zip(one, per_step))
+    return per_step, prep
 
 
 def distributed_rate(scene, workers, steps):
+    """Steps per second (wall) of hedra.distributed.sun_study on `workers` processes, checked
+    against the single-process study."""
     start = f"{DAY}T08:00:00Z"
     minutes = 15 * (steps - 1)
     end = f"{DAY}T{8 + minutes // 60:02d}:{minutes % 60:02d}:00Z"
@@ -98,36 +120,46 @@ def main():
     parser.add_argument("--side", type=int, default=40, help="city of SIDE x SIDE boxes")
     parser.add_argument("--small-side", type=int, default=20)
     parser.add_argument("--steps", type=int, default=8, help="steps timed per city")
-    parser.add_argument("--study-steps", type=int, default=16, help="steps of the 1/2-worker run")
+    parser.add_argument("--study-steps", type=int, default=32, help="steps of the 1/2-worker run")
     args = parser.parse_args()
 
-    print(f"machine: {os.cpu_count()} cores; hedra {getattr(hedra, '__version__', '?')}")
-    rows = []
+    print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.1f}; "
+          f"hedra {getattr(hedra, '__version__', '?')}")
+    sched = {}
     for w in (1, 2):
-        rate, per_task = scheduler_cost(w)
-        rows.append((w, rate, per_task))
-        print(f"empty tasks, {w} worker(s): {rate:.0f} tasks/s, {per_task * 1e3:.2f} ms per task")
+        rate, wall, cpu, wcpu = scheduler_cost(w)
+        sched[w] = (rate, wall, cpu, wcpu)
+        print(f"empty tasks, {w} worker(s): {rate:.0f} tasks/s, {wall * 1e3:.2f} ms wall per task, "
+              f"scheduler+client CPU {cpu * 1e3:.2f} ms, worker CPU {wcpu * 1e3:.2f} ms per task")
     with tempfile.TemporaryDirectory() as folder:
         small = city_scene(args.small_side, folder)
         big = city_scene(args.side, folder)
         n_small, n_big = args.small_side ** 2, args.side ** 2
-        s_small, p_small = step_cost(small, args.steps)
-        s_big, p_big = step_cost(big, args.steps)
-        print(f"one step, {n_small} boxes: {s_small * 1e3:.1f} ms (preparation {p_small * 1e3:.0f} ms)")
-        print(f"one step, {n_big} boxes: {s_big * 1e3:.1f} ms (preparation {p_big * 1e3:.0f} ms)")
-        exponent = math.log(s_big / s_small) / math.log(n_big / n_small)
-        print(f"step cost grows as buildings^{exponent:.2f} between {n_small} and {n_big}")
+        print(f"scene of {n_big} boxes: {len(pickle.dumps(big)) / 1e6:.2f} MB pickled")
+        costs = {}
+        for n, scene in ((n_small, small), (n_big, big)):
+            (sw, sc), (pw, pc) = step_cost(scene, args.steps)
+            costs[n] = (sc, pc)
+            print(f"one step, {n} boxes: {sw * 1e3:.1f} ms wall, {sc * 1e3:.1f} ms CPU; "
+                  f"preparation {pw * 1e3:.0f} ms wall, {pc * 1e3:.0f} ms CPU")
+        exponent = math.log(costs[n_big][0] / costs[n_small][0]) / math.log(n_big / n_small)
+        print(f"step CPU cost grows as buildings^{exponent:.2f} between {n_small} and {n_big}")
         for w in (1, 2):
-            print(f"{n_big}-box study of {args.study_steps} steps on {w} worker(s): "
-                  f"{distributed_rate(big, w, args.study_steps):.2f} steps/s")
+            try:
+                rate = f"{distributed_rate(big, w, args.study_steps):.2f} steps/s"
+            except TypeError as e:  # a module without slices (first_step/step_count)
+                rate = f"not measured ({e})"
+            print(f"{n_big}-box study of {args.study_steps} steps on {w} worker(s): {rate}")
 
-    # The projection: linear in buildings from the 1600-box step.
+    # The projection: CPU costs linear in buildings from the 1600-box city; one core per worker.
     steps, buildings = 35040, 50000
-    step = s_big * buildings / n_big
-    prep = p_big * buildings / n_big
-    per_task = rows[0][2]
-    print(f"\nprojection: {steps} steps x {buildings} buildings; one step {step:.1f} s "
-          f"(linear from {n_big} boxes), preparation {prep:.1f} s per task")
+    step, prep = (c * buildings / n_big for c in costs[n_big])
+    per_task = sched[1][2]
+    print(f"\nprojection: {steps} steps x {buildings} buildings; one step {step:.2f} s CPU "
+          f"(linear from {n_big} boxes), preparation {prep:.2f} s per task, scheduler "
+          f"{per_task * 1e3:.2f} ms per task")
+    print("| workers | steps per task | tasks | time |")
+    print("|---|---|---|---|")
     for w in (1, 10, 100):
         chunk = max(1, steps // (4 * w))
         tasks = math.ceil(steps / chunk)

@@ -12,6 +12,7 @@ import pathlib
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import hedra
@@ -21,8 +22,9 @@ from distributed import Client, LocalCluster, WorkerPlugin, get_task_stream
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 CITY = ROOT / "examples" / "city-block.json"
-# The city's sun is at 52.5 N, 13.4 E (Berlin); a midsummer day, sunrise to sunset, hourly.
-START, END, STEP = "2026-06-21T02:00:00Z", "2026-06-21T20:00:00Z", 60
+# The city's sun is at 52.5 N, 13.4 E (Berlin); a midsummer day, night to night, every 20
+# minutes: 55 steps, some before sunrise and after sunset.
+START, END, STEP = "2026-06-21T02:00:00Z", "2026-06-21T20:00:00Z", 20
 
 
 def cluster(workers=2):
@@ -58,14 +60,14 @@ def test_step_count_matches_the_kernel(city):
 
 def test_two_workers_give_the_single_process_study(client, city, reference):
     with get_task_stream(client=client) as stream:
-        study = hd.sun_study(city, START, END, STEP, client=client, chunk=2)
+        study = hd.sun_study(city, START, END, STEP, client=client, chunk=4)
     assert study.to_json() == reference.to_json()
     ref = json.loads(reference.to_json())
     # A real sun: day and night steps, and faces with different hours of sun.
     assert any(s["sun_up"] for s in ref["steps"]) and not all(s["sun_up"] for s in ref["steps"])
     assert len({f["sun_hours"] for f in ref["faces"]}) > 3
     tasks = [t for t in stream.data if str(t["key"]).startswith("hedra-sun-study")]
-    assert len(tasks) == (len(ref["steps"]) + 1) // 2
+    assert len(ref["steps"]) == 55 and len(tasks) == 14
     workers = set(client.scheduler_info()["workers"])
     assert {t["worker"] for t in tasks} == workers and len(workers) == 2
 
@@ -101,6 +103,13 @@ def test_batch_reports_the_bad_file_and_returns_the_others(client, tmp_path):
     assert list(pieces[1].value) == list(local)
     for name, parts in local.items():
         assert [p.volume for p in pieces[1].value[name]] == [p.volume for p in parts]
+
+    lines = hd.map_files("hidden_lines", [str(CITY), str(missing)], client=client)
+    assert lines[0].ok and not lines[1].ok and str(missing) in lines[1].error
+    local = hedra.hidden_lines(hedra.read(str(CITY)))
+    for part in ("visible", "hidden", "junction"):
+        assert np.array_equal(lines[0].value[part], getattr(local, part))
+    assert len(lines[0].value["visible"]) > 100
 
     with pytest.raises(ValueError, match="unknown function"):
         hd.map_files("explode", paths, client=client)
