@@ -156,14 +156,19 @@ def shadows(*args, env=None):
                           env=env, timeout=120)
 
 
-def test_cli_workers_write_the_same_json(tmp_path, reference):
+def test_cli_workers_write_the_same_json(tmp_path, city):
     one, two = tmp_path / "one.json", tmp_path / "two.json"
-    hours = ["--sun-hours", START, END, str(STEP)]
+    # With a grid of sample points on the ground's top face (255 points, 2 m apart).
+    hours = ["--sun-hours", START, END, str(STEP), "--grid", "ground", "5", "2"]
     a = shadows(*hours, "--json", str(one))
     b = shadows(*hours, "--workers", "2", "--json", str(two))
     assert a.returncode == 0 and b.returncode == 0, b.stderr
     ja, jb = json.loads(one.read_text()), json.loads(two.read_text())
+    reference = hedra.sun_study(city, START, END, STEP, grid=("ground", 5, 2.0))
     assert ja["sun_study"] == jb["sun_study"] == json.loads(reference.to_json())
+    assert len(set(ja["sun_study"]["grid"]["sun_hours"])) > 3
+    # The same bytes, not just the same numbers (sun_study is the report's last key).
+    assert one.read_text().split('"sun_study":')[1] == two.read_text().split('"sun_study":')[1]
     # Everything but the timing is the same report, and so is the printed summary.
     del ja["ms"], jb["ms"]
     assert ja == jb
