@@ -151,20 +151,23 @@ def main():
                 rate = f"not measured ({e})"
             print(f"{n_big}-box study of {args.study_steps} steps on {w} worker(s): {rate}")
 
-    # The projection: CPU costs linear in buildings from the 1600-box city; one core per worker.
+    # The projection: CPU costs linear in buildings from the 1600-box city; one core per
+    # worker; about four tasks per worker (hedra.distributed's default chunk), run in rounds.
     steps, buildings = 35040, 50000
     step, prep = (c * buildings / n_big for c in costs[n_big])
     per_task = sched[1][2]
+    faces = 6 * buildings
     print(f"\nprojection: {steps} steps x {buildings} buildings; one step {step:.2f} s CPU "
           f"(linear from {n_big} boxes), preparation {prep:.2f} s per task, scheduler "
-          f"{per_task * 1e3:.2f} ms per task")
-    print("| workers | steps per task | tasks | time |")
-    print("|---|---|---|---|")
+          f"{per_task * 1e3:.2f} ms per task; lit fractions {faces * 8 / 1e6:.1f} MB per step")
+    print("| workers | steps per task | tasks | rounds | time |")
+    print("|---|---|---|---|---|")
     for w in (1, 10, 100):
-        chunk = max(1, steps // (4 * w))
+        chunk = math.ceil(steps / (4 * w))
         tasks = math.ceil(steps / chunk)
-        total = steps * step / w + math.ceil(tasks / w) * prep + tasks * per_task
-        print(f"| {w} | {chunk} | {tasks} | {fmt(total)} |")
+        rounds = math.ceil(tasks / w)
+        total = rounds * (chunk * step + prep) + tasks * per_task
+        print(f"| {w} | {chunk} | {tasks} | {rounds} | {fmt(total)} |")
 
 
 if __name__ == "__main__":
