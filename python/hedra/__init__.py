@@ -26,6 +26,7 @@ from ._hedra import (  # noqa: F401
     SunStudy,
     box,
     clip,
+    combine_sun_studies,
     cone,
     cylinder,
     decompose,
@@ -40,6 +41,7 @@ from ._hedra import (  # noqa: F401
     sphere,
     subtract,
     sun_study,
+    sun_study_steps,
     unite,
     write,
 )

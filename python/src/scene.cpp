@@ -305,7 +305,8 @@ const Light* scene_sun(const Scene& scene) {
 PySunStudy run_sun_study(const PyScene& s, const std::string& start, const std::string& end,
                          double step_minutes, std::optional<double> latitude,
                          std::optional<double> longitude, const py::object& grid, int threads,
-                         const std::string& grid_body, int grid_face, double grid_spacing) {
+                         const std::string& grid_body, int grid_face, double grid_spacing,
+                         int first_step, int step_count) {
   const Light* sun = scene_sun(s.scene);
   SunStudyOptions o;
   if ((!latitude || !longitude) && sun == nullptr)
@@ -317,6 +318,8 @@ PySunStudy run_sun_study(const PyScene& s, const std::string& start, const std::
   o.end = time_of(end, sun ? &sun->time : nullptr);
   o.step_minutes = step_minutes;
   o.threads = threads;
+  o.first_step = first_step;
+  o.step_count = step_count;
   if (!grid.is_none()) {
     const py::tuple g = grid.cast<py::tuple>();
     if (g.size() != 3) throw InvalidInput("grid: expected (body, face, spacing)");
@@ -335,6 +338,20 @@ PySunStudy run_sun_study(const PyScene& s, const std::string& start, const std::
   } catch (const InvalidInput& e) {
     rethrow_with_source(s, e);
   }
+  return out;
+}
+
+// Joins slices (hedra.sun_study with first_step/step_count) into the whole study; the scene
+// and the schedule are the first part's.
+PySunStudy combine_studies(const std::vector<const PySunStudy*>& parts) {
+  if (parts.empty()) throw InvalidInput("combine_sun_studies: no parts");
+  PySunStudy out{parts[0]->scene, parts[0]->options, {}};
+  out.options.first_step = 0;
+  out.options.step_count = -1;
+  std::vector<SunStudy> studies;
+  for (const PySunStudy* p : parts) studies.push_back(p->study);
+  py::gil_scoped_release release;
+  out.study = combine_sun_studies(studies, out.options);
   return out;
 }
 
@@ -711,6 +728,9 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("latitude", [](const PySunStudy& s) { return s.options.latitude; })
       .def_property_readonly("longitude", [](const PySunStudy& s) { return s.options.longitude; })
       .def_property_readonly("step_minutes", [](const PySunStudy& s) { return s.options.step_minutes; })
+      .def_property_readonly("first_step", [](const PySunStudy& s) { return s.study.first_step; },
+                             "Index of the first step in the whole schedule (slices).")
+      .def_static("combine", &combine_studies, py::arg("parts"), "As hedra.combine_sun_studies.")
       .def("to_json", [](const PySunStudy& s) { return io::sun_study_json(s.scene, s.options, s.study); },
            "The 'sun_study' object of `hedra shadows --json --sun-hours` (one line).")
       .def(py::pickle(
@@ -720,13 +740,15 @@ void bind_scene(py::module_& m) {
             py::list steps;
             for (const SunStep& st : s.study.steps)
               steps.append(py::make_tuple(time_state(st.time), st.elevation_deg, st.azimuth_deg, st.sun_up,
-                                          doubles_bytes(st.lit_fraction.data(), st.lit_fraction.size())));
+                                          doubles_bytes(st.lit_fraction.data(), st.lit_fraction.size()),
+                                          py::bytes(st.grid_lit.data(), st.grid_lit.size())));
             std::vector<double> grid;
             for (const Vec3& p : s.study.grid_points) grid.insert(grid.end(), {p.x(), p.y(), p.z()});
             return py::make_tuple(
                 1, scene_state(PyScene{s.scene, ""}),
                 py::make_tuple(o.latitude, o.longitude, time_state(o.start), time_state(o.end), o.step_minutes,
-                               o.grid_body, o.grid_face, o.grid_spacing, o.threads),
+                               o.grid_body, o.grid_face, o.grid_spacing, o.threads, o.first_step,
+                               o.step_count, s.study.first_step),
                 steps, doubles_bytes(s.study.sun_hours.data(), s.study.sun_hours.size()),
                 py::cast(s.study.first_face), doubles_bytes(grid.data(), grid.size()),
                 doubles_bytes(s.study.grid_hours.data(), s.study.grid_hours.size()));
@@ -745,6 +767,9 @@ void bind_scene(py::module_& m) {
             s.options.grid_face = o[6].cast<int>();
             s.options.grid_spacing = o[7].cast<double>();
             s.options.threads = o[8].cast<int>();
+            s.options.first_step = o[9].cast<int>();
+            s.options.step_count = o[10].cast<int>();
+            s.study.first_step = o[11].cast<int>();
             for (const py::handle h : t[3].cast<py::list>()) {
               const py::tuple st = h.cast<py::tuple>();
               SunStep step;
@@ -753,6 +778,8 @@ void bind_scene(py::module_& m) {
               step.azimuth_deg = st[2].cast<double>();
               step.sun_up = st[3].cast<bool>();
               step.lit_fraction = doubles_from(st[4]);
+              const std::string lit = st[5].cast<std::string>();
+              step.grid_lit.assign(lit.begin(), lit.end());
               s.study.steps.push_back(std::move(step));
             }
             s.study.sun_hours = doubles_from(t[4]);
@@ -766,8 +793,25 @@ void bind_scene(py::module_& m) {
         py::arg("step_minutes") = 60.0, py::arg("latitude") = py::none(),
         py::arg("longitude") = py::none(), py::arg("grid") = py::none(), py::arg("threads") = 0,
         py::arg("grid_body") = "", py::arg("grid_face") = -1, py::arg("grid_spacing") = 0.0,
+        py::arg("first_step") = 0, py::arg("step_count") = -1,
         "Shadows from start to end (ISO 8601 UTC, or hh:mm on the date of the scene's sun) every "
-        "step_minutes; place from the scene's sun unless given. grid=(body, face, spacing).");
+        "step_minutes; place from the scene's sun unless given. grid=(body, face, spacing). "
+        "first_step, step_count: only that slice of the schedule (-1: to the end), to be joined "
+        "by combine_sun_studies.");
+  m.def("combine_sun_studies", &combine_studies, py::arg("parts"),
+        "The whole study from slices computed apart (in schedule order, covering it exactly): "
+        "equal to the single sun_study bit for bit.");
+  m.def("sun_study_steps",
+        [](const PyScene& s, const std::string& start, const std::string& end, double step_minutes) {
+          const Light* sun = scene_sun(s.scene);
+          SunStudyOptions o;
+          o.start = time_of(start, sun ? &sun->time : nullptr);
+          o.end = time_of(end, sun ? &sun->time : nullptr);
+          o.step_minutes = step_minutes;
+          return sun_study_steps(o);
+        },
+        py::arg("scene"), py::arg("start"), py::arg("end"), py::arg("step_minutes") = 60.0,
+        "Number of steps of the whole schedule start, start + step, ..., end.");
 
   // ---- rendering ----
   m.def("render",

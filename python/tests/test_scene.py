@@ -128,6 +128,25 @@ def test_sun_study_equals_the_command(city_path, tmp_path):
     assert again.lit_fraction.tobytes() == st.lit_fraction.tobytes()
 
 
+def test_sun_study_slices_combine_to_the_whole(city):
+    args = (city, "2026-06-21T02:00:00Z", "2026-06-21T20:30:00Z", 60)
+    whole = hedra.sun_study(*args, grid=("ground", 5, 10))
+    total = hedra.sun_study_steps(*args)
+    assert total == len(whole.times) == 20
+    parts = [hedra.sun_study(*args, grid=("ground", 5, 10), first_step=first, step_count=count)
+             for first, count in ((0, 7), (7, 7), (14, -1))]
+    assert [p.first_step for p in parts] == [0, 7, 14]
+    assert sum(len(p.times) for p in parts) == total
+    # Slices travel between processes as pickles; the join is the whole study bit for bit.
+    parts = [pickle.loads(pickle.dumps(p)) for p in parts]
+    for joined in (hedra.combine_sun_studies(parts), hedra.SunStudy.combine(parts)):
+        assert joined.to_json() == whole.to_json()
+        assert joined.sun_hours.tobytes() == whole.sun_hours.tobytes()
+        assert joined.grid_hours.tobytes() == whole.grid_hours.tobytes()
+    with pytest.raises(hedra.InvalidInput):
+        hedra.combine_sun_studies([parts[0], parts[2]])  # a gap
+
+
 def test_render_equals_the_command(city_path, tmp_path):
     out = tmp_path / "r.png"
     run_cli("render", city_path, "-o", out, "--width", "160", "--height", "120", "--shading", "gouraud")

@@ -37,6 +37,8 @@ ConvexityReport convexity(const Body& body) {
   return report;
 }
 
+bool is_convex(const Body& body) { return convexity(body).convex; }
+
 ConvexityReport convexity(const std::vector<Vec3>& vertices, const std::vector<Face>& faces) {
   ConvexityReport report;
   bool any_off_plane = false;

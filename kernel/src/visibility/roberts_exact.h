@@ -55,12 +55,6 @@ std::vector<std::pair<double, double>> visible_parts_exact(const Vec3& p1, const
 std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
     std::span<const ExactPlane> planes, const Viewpoint& view, const Vec3& p1, const Vec3& p2);
 
-/// Exact sign of det[b − a, c − a, d] (orient3d with the direction d in place of d − a).
-Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
-
-/// True when d is parallel to b − a (exactly; d ≠ 0).
-bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d);
-
 /// The visible parts of the junction lines of two bodies A and B: the closure of the points
 /// lying in the relative interior of a face of A and of a face of B whose planes cross. End
 /// points (crossings of edges with face planes: the course's penetration points) are exact

@@ -7,6 +7,7 @@
 #include "hedra/scene/scene.h"
 #include "hedra/visibility/roberts.h"
 #include "hedra/visibility/shadows.h"
+#include "hedra/visibility/sun_study.h"
 
 namespace hedra::io {
 

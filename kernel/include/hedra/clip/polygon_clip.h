@@ -42,6 +42,23 @@ std::vector<Polygon3> clip_polygon(const Polygon3& polygon, const ConvexClipper&
 /// \throw InvalidInput as clip_polygon. Cost O(planes · n).
 Polygon3 sutherland_hodgman(const Polygon3& polygon, const ConvexClipper& clipper);
 
+/// Work space of clip_convex_polygon_open, reused across calls (one per thread).
+struct PolygonClipScratch {
+  Polygon3 ring;
+  std::vector<Sign> side;
+};
+
+/// A convex polygon ∩ the open clipper (the interior of an occlusion volume), by
+/// Sutherland–Hodgman with exact sides: true and the clipped convex polygon in `out`, or false
+/// when nothing of positive area is strictly inside (a polygon with no vertex strictly inside a
+/// plane, one lying in a plane included). Crossing points are canonical: computed from the
+/// edge's ends in lexicographic order, and on a plane perpendicular to a coordinate axis given
+/// that plane's coordinate exactly, so that polygons sharing an edge (convex parts of one face)
+/// or cut by one such plane (walls, floors, decomposition cuts) get the very same points.
+/// \pre a convex planar polygon with finite coordinates. Cost O(planes · n).
+bool clip_convex_polygon_open(const Polygon3& polygon, const ConvexClipper& clipper,
+                              Polygon3& out, PolygonClipScratch& scratch);
+
 /// Area of a planar polygon: half the length of Newell's vector. Cost O(n).
 double polygon_area(const Polygon3& polygon);
 

@@ -22,6 +22,9 @@ struct ConvexityReport {
 /// Cost O(F·V).
 ConvexityReport convexity(const Body& body);
 
+/// convexity(body).convex: the one convexity test of hedra's visibility passes.
+bool is_convex(const Body& body);
+
 /// The same exact test on raw, unvalidated data (so flat input can be reported as flat).
 /// Faces use their outer loop. \pre indices in range; loops of at least 3 vertices.
 ConvexityReport convexity(const std::vector<Vec3>& vertices, const std::vector<Face>& faces);

@@ -36,6 +36,11 @@ struct SunPosition {
 /// \throw InvalidInput for latitudes/longitudes out of range or non-finite.
 SunPosition sun_position(double latitude_deg, double longitude_deg, const UtcTime& time);
 
+/// Minutes from a to b (negative when b is earlier). Proleptic Gregorian calendar.
+double minutes_between(const UtcTime& a, const UtcTime& b);
+/// t plus the given minutes (may cross days, months and years), rounded to the millisecond.
+UtcTime add_minutes(const UtcTime& t, double minutes);
+
 /// Direction the sunlight travels (−towards_sun).
 /// \throw InvalidInput "the sun is below the horizon at … (elevation −12.3°)" at night.
 Vec3 sunlight_direction(double latitude_deg, double longitude_deg, const UtcTime& time);
