@@ -278,6 +278,13 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
     json_text = io::shadows_json(scene, command.scene_file, result, options.visible_parts, ms,
                                  study ? &*study_options : nullptr, study ? &*study : nullptr) +
                 "\n";
+  if (dask_study && !json_text.empty()) {
+    // The report as always, with the cluster's sun_study object: the same bytes as one
+    // process's (nlohmann prints a parsed double as it was printed).
+    nlohmann::json j = nlohmann::json::parse(json_text);
+    j["sun_study"] = *dask_study;
+    json_text = j.dump() + "\n";
+  }
   if (!command.svg_file.empty()) {
     try {
       svg_text = shadows_svg(scene, result, "hedra shadows " + command.scene_file);

@@ -32,57 +32,24 @@ import dataclasses
 import datetime
 import math
 import os
-import re
 import sys
 import uuid
 from typing import Any, Callable, Iterator, Sequence
 
 import hedra
 
-__all__ = ["sun_study", "map_files", "FileResult", "step_count", "local_cluster", "main"]
+__all__ = ["sun_study", "map_files", "FileResult", "local_cluster", "main"]
 
-# ---- Time steps, as the C++ sun study counts them ----
+# ---- Times ----
 
-_ISO = re.compile(
-    r"^(\d{4})-(\d{2})-(\d{2})[T ](\d{2}):(\d{2})(?::(\d{2}(?:\.\d*)?))?(?:Z|\+00:00)?$")
-
-
-def _seconds(time: str | datetime.datetime) -> float:
-    """Seconds since 1970-01-01 in the C++ kernel's arithmetic (seconds_of in shadows.cpp)."""
-    if isinstance(time, datetime.datetime):
-        if time.tzinfo is not None:
-            time = time.astimezone(datetime.timezone.utc).replace(tzinfo=None)
-        y, mo, d, h, mi = time.year, time.month, time.day, time.hour, time.minute
-        s = time.second + time.microsecond / 1e6
-    else:
-        m = _ISO.match(str(time).strip())
-        if not m:
-            raise hedra.InvalidInput(f"sun study: '{time}' is not a UTC time (2026-06-21T04:00:00Z)")
-        y, mo, d, h, mi = (int(m.group(i)) for i in range(1, 6))
-        s = float(m.group(6) or 0)
-    days = datetime.date(y, mo, d).toordinal() - datetime.date(1970, 1, 1).toordinal()
-    return float(days) * 86400.0 + h * 3600.0 + mi * 60.0 + s
-
-
-def _iso(time: str | datetime.datetime) -> str:
+def _iso(time) -> str:
+    """A datetime as ISO 8601 UTC text; text (ISO 8601 or hh:mm on the date of the scene's
+    sun) as it is: the kernel parses it."""
     if isinstance(time, datetime.datetime):
         if time.tzinfo is not None:
             time = time.astimezone(datetime.timezone.utc).replace(tzinfo=None)
         return time.isoformat() + "Z"
     return str(time)
-
-
-def step_count(start, end, step_minutes: float) -> int:
-    """Number of time steps of hedra.sun_study(start, end, step_minutes): start, start + step,
-    ..., and end when it is not already a step (the C++ rule, same double arithmetic)."""
-    step = float(step_minutes)
-    if not (step > 0) or not math.isfinite(step):
-        raise hedra.InvalidInput("sun study: the step must be a positive number of minutes")
-    span = (_seconds(end) - _seconds(start)) / 60
-    if span < 0:
-        raise hedra.InvalidInput(f"sun study: the end {end} is before the start {start}")
-    steps = math.floor(span / step + 1e-9)
-    return steps + 1 + (1 if span - steps * step > 1e-9 else 0)
 
 
 # ---- Clusters ----
@@ -127,8 +94,7 @@ def _study_slice(scene, start: str, end: str, step_minutes: float, first: int, c
 
 
 def _slices(total: int, chunk: int) -> list[tuple[int, int]]:
-    """(first, count) per task; the last slice runs to the end (count -1), so that the steps
-    are those of hedra.sun_study whatever the rounding of the step count."""
+    """(first, count) per task; the last slice runs to the end (count -1)."""
     out = [(first, chunk) for first in range(0, total, chunk)]
     out[-1] = (out[-1][0], -1)
     return out
@@ -155,7 +121,8 @@ def sun_study(scene, start, end, step_minutes: float, client=None, chunk: int | 
     # the result does not depend on it.
     options.setdefault("threads", 1)
     start_text, end_text = _iso(start), _iso(end)
-    total = step_count(start, end, step_minutes)
+    # The kernel's count of the schedule's steps (it also checks the times and the step).
+    total = hedra.sun_study_steps(scene, start_text, end_text, float(step_minutes))
     with _client_or_local(client, workers) as c:
         if chunk is None:
             chunk = max(1, math.ceil(total / (4 * _thread_count(c))))
