@@ -90,19 +90,23 @@ def step_cost(scene, k):
 
 
 def distributed_rate(scene, workers, steps):
-    """Steps per second (wall) of hedra.distributed.sun_study on `workers` processes, checked
-    against the single-process study."""
+    """(steps/s wall, CPU s per step on the workers, CPU s per step in this process: client and
+    scheduler) of hedra.distributed.sun_study on `workers` processes, checked against the
+    single-process study."""
     start = f"{DAY}T08:00:00Z"
     minutes = 15 * (steps - 1)
     end = f"{DAY}T{8 + minutes // 60:02d}:{minutes % 60:02d}:00Z"
     reference = hedra.sun_study(scene, start, end, 15).to_json()
     with hd.local_cluster(workers) as c:
         c.wait_for_workers(workers)
-        t0 = time.perf_counter()
-        study = hd.sun_study(scene, start, end, 15, client=c, chunk=max(1, steps // (4 * workers)))
-        wall = time.perf_counter() - t0
+        w_cpu = sum(c.run(_cpu).values())
+        t0, c0 = time.perf_counter(), time.process_time()
+        study = hd.sun_study(scene, start, end, 15, client=c)
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        w_cpu = sum(c.run(_cpu).values()) - w_cpu
     assert study.to_json() == reference, "distributed study differs from one process"
-    return steps / wall
+    tasks = math.ceil(steps / math.ceil(steps / (4 * workers)))  # hedra.distributed's default
+    return steps / wall, w_cpu / steps, cpu / steps, tasks
 
 
 def fmt(seconds):
@@ -144,31 +148,41 @@ def main():
                   f"preparation {pw * 1e3:.0f} ms wall, {pc * 1e3:.0f} ms CPU")
         exponent = math.log(costs[n_big][0] / costs[n_small][0]) / math.log(n_big / n_small)
         print(f"step CPU cost grows as buildings^{exponent:.2f} between {n_small} and {n_big}")
+        per_task_worker, per_task_client = [], []
         for w in (1, 2):
-            try:
-                rate = f"{distributed_rate(big, w, args.study_steps):.2f} steps/s"
-            except TypeError as e:  # a module without slices (first_step/step_count)
-                rate = f"not measured ({e})"
-            print(f"{n_big}-box study of {args.study_steps} steps on {w} worker(s): {rate}")
+            rate, wcpu, ccpu, tasks = distributed_rate(big, w, args.study_steps)
+            n = args.study_steps
+            per_task_worker.append(max(0.0, (wcpu - costs[n_big][0]) * n / tasks))
+            per_task_client.append(ccpu * n / tasks)
+            print(f"{n_big}-box study of {n} steps on {w} worker(s), {tasks} tasks: {rate:.2f} "
+                  f"steps/s; per step {wcpu * 1e3:.1f} ms CPU on the workers, "
+                  f"{ccpu * 1e3:.1f} ms in the client and scheduler; per task "
+                  f"{per_task_worker[-1] * 1e3:.0f} ms worker CPU beyond the steps, "
+                  f"{per_task_client[-1] * 1e3:.0f} ms client CPU")
 
     # The projection: CPU costs linear in buildings from the 1600-box city; one core per
     # worker; about four tasks per worker (hedra.distributed's default chunk), run in rounds.
     steps, buildings = 35040, 50000
-    step, prep = (c * buildings / n_big for c in costs[n_big])
+    scale = buildings / n_big
+    step = costs[n_big][0] * scale
+    task_worker = max(per_task_worker) * scale  # the scene in, preparation, the slice out
+    task_client = max(per_task_client) * scale  # slices unpickled (each carries the scene)
     per_task = sched[1][2]
     faces = 6 * buildings
     print(f"\nprojection: {steps} steps x {buildings} buildings; one step {step:.2f} s CPU "
-          f"(linear from {n_big} boxes), preparation {prep:.2f} s per task, scheduler "
-          f"{per_task * 1e3:.2f} ms per task; lit fractions {faces * 8 / 1e6:.1f} MB per step")
-    print("| workers | steps per task | tasks | rounds | time |")
-    print("|---|---|---|---|---|")
+          f"(linear from {n_big} boxes), {task_worker:.2f} s worker CPU and {task_client:.2f} s "
+          f"client CPU per task, scheduler {per_task * 1e3:.2f} ms per task; lit fractions "
+          f"{faces * 8 / 1e6:.1f} MB per step")
+    print("| workers | steps per task | tasks | rounds | workers' time | client's time | total |")
+    print("|---|---|---|---|---|---|---|")
     for w in (1, 10, 100):
         chunk = math.ceil(steps / (4 * w))
         tasks = math.ceil(steps / chunk)
         rounds = math.ceil(tasks / w)
-        total = rounds * (chunk * step + prep) + tasks * per_task
-        print(f"| {w} | {chunk} | {tasks} | {rounds} | {fmt(total)} |")
-
+        work = rounds * (chunk * step + task_worker)
+        client = tasks * (task_client + per_task)  # serial, overlapping the work
+        print(f"| {w} | {chunk} | {tasks} | {rounds} | {fmt(work)} | {fmt(client)} | "
+              f"{fmt(max(work, client) + task_client)} |")
 
 if __name__ == "__main__":
     main()
