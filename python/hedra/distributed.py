@@ -17,7 +17,8 @@ this machine (loopback only) and close it afterwards. To use a cluster of severa
 pass ``distributed.Client("tcp://scheduler:8786")`` (docs/distributed.md).
 
 Cost: one task per slice of ``chunk`` steps; each task prepares the scene (convex pieces,
-once per task) and then costs what the same steps cost in one process. The scheduler adds
+once per task), costs what the same steps cost in one process, and returns its slice (a
+pickled SunStudy, which carries the scene) for the client to combine. The scheduler adds
 about a millisecond per task (docs/distributed.md has the measured numbers).
 
 ``python3 -m hedra.distributed shadows SCENE --sun-hours START END STEP [--workers N |
@@ -208,7 +209,7 @@ def map_files(function_name: str, paths: Sequence[str | os.PathLike], client=Non
               workers: int | None = None, retries: int = 1, **options) -> list[FileResult]:
     """Runs `function_name` ("decompose", "render", "hidden_lines" or "info") on every file
     as one Dask task each. Returns one FileResult per path, in input order: value = the list
-    of body records ("info"), {body name: [convex pieces]} ("decompose"), the image array
+    of body records ("info"), {body name: [convex pieces]} ("decompose"), the image
     ("render"), {"visible", "hidden", "junction", ...: segment arrays} ("hidden_lines").
     A file that fails, or whose worker dies more often than Dask allows, gets ok=False and a
     one-line error naming it; the others are unaffected. options go to the hedra function.

@@ -103,6 +103,11 @@ def test_batch_reports_the_bad_file_and_returns_the_others(client, tmp_path):
         assert np.array_equal(lines[0].value[part], getattr(local, part))
     assert len(lines[0].value["visible"]) > 100
 
+    images = hd.map_files("render", [str(bad), str(CITY)], client=client, width=64, height=48)
+    assert not images[0].ok and str(bad) in images[0].error
+    local = hedra.render(hedra.read(str(CITY)), width=64, height=48)
+    assert np.array_equal(np.asarray(images[1].value), np.asarray(local))
+
     with pytest.raises(ValueError, match="unknown function"):
         hd.map_files("explode", paths, client=client)
 
