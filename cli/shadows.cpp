@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <optional>
 
+#include "cli/distributed_study.h"
 #include "cli/info.h"
 #include "cli/usage.h"
 #include "hedra/io/atomic_file.h"
@@ -215,6 +216,14 @@ CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
   sub->add_flag("--visible", command.visible_parts,
                 "report the parts of the shadows the camera sees (always with --svg)");
   add_threads_option(*sub, command.threads);
+  auto* workers = sub->add_option("--workers", command.workers,
+                                  "with --sun-hours: run the study on a local Dask cluster of N "
+                                  "processes (docs/distributed.md)")
+                      ->check(CLI::PositiveNumber);
+  sub->add_option("--scheduler", command.scheduler,
+                  "with --sun-hours: run the study on the Dask cluster of this scheduler "
+                  "(tcp://host:8786)")
+      ->excludes(workers);
   return sub;
 }
 
@@ -261,6 +270,10 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   } else if (!command.grid.empty()) {
     throw UsageError("--grid needs --sun-hours");
   }
+  const bool on_dask = command.workers > 0 || !command.scheduler.empty();
+  if (on_dask && !study_options)
+    throw InvalidInput(std::string(command.workers > 0 ? "--workers" : "--scheduler") +
+                       " needs --sun-hours");
 
   // The computation, timed without file I/O.
   ShadowOptions options;
@@ -269,9 +282,14 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   const auto t0 = std::chrono::steady_clock::now();
   ShadowResult result;
   std::optional<SunStudy> study;
+  std::optional<nlohmann::json> dask_study;  // the `sun_study` JSON of a study run on a Dask cluster
   try {
     result = compute_shadows(scene, options);
-    if (study_options) study = sun_study(scene, *study_options);
+    if (study_options && on_dask)
+      dask_study = distributed_sun_study(command.scene_file, *study_options,
+                                         {command.workers, command.scheduler});
+    else if (study_options)
+      study = sun_study(scene, *study_options);
   } catch (const InvalidInput& e) {
     throw InvalidInput(command.scene_file + ": " + e.what());
   }
@@ -284,6 +302,13 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
     json_text = io::shadows_json(scene, command.scene_file, result, options.visible_parts, ms,
                                  study ? &*study_options : nullptr, study ? &*study : nullptr) +
                 "\n";
+  if (dask_study && !json_text.empty()) {
+    // The report as always, with the cluster's sun_study object: the same bytes as one
+    // process's (nlohmann prints a parsed double as it was printed).
+    nlohmann::json j = nlohmann::json::parse(json_text);
+    j["sun_study"] = *dask_study;
+    json_text = j.dump() + "\n";
+  }
   if (!command.svg_file.empty()) {
     try {
       svg_text = shadows_svg(scene, result, "hedra shadows " + command.scene_file);
@@ -345,6 +370,7 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
                   study_options->end.to_string().c_str(), up, lo, hi);
     out << buf;
   }
+  if (dask_study) out << sun_study_summary(*dask_study);
   if (!command.json_file.empty() || !command.svg_file.empty()) {
     out << "wrote";
     if (!command.json_file.empty()) out << " " << command.json_file;

@@ -25,6 +25,10 @@ struct ShadowsCommand {
   bool visible_parts =
       false;  // compute the parts of the shadows the camera sees (implied by --svg)
   int threads = 0;
+  /// With --sun-hours: run the study on a Dask cluster, a local one of `workers` processes or
+  /// the one whose scheduler is at `scheduler` (cli/distributed_study.h).
+  int workers = 0;
+  std::string scheduler;
 };
 
 /// Registers the `shadows` subcommand on `app`, to fill `command`. Malformed option values

@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake pkg-config
+  python3-distributed python3-dask python3-pytest
   libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libopenmesh-dev libeigen3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
