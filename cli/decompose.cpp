@@ -29,7 +29,7 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
   const bool scene = c.file.size() > 5 && c.file.substr(c.file.size() - 5) == ".json";
   nlohmann::ordered_json results = nlohmann::ordered_json::array();
   for (const NamedBody& nb : bodies) {
-    if (scene && convexity(nb.body).convex) continue;
+    if (scene && is_convex(nb.body)) continue;
     DecomposeOptions options;
     options.threads = c.threads;
     options.merge = c.merge;
@@ -48,7 +48,7 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
     bool all_convex = true;
     for (const Body& p : d.pieces) {
       volume += p.volume();
-      all_convex = all_convex && convexity(p).convex;
+      all_convex = all_convex && is_convex(p);
     }
     if (!c.out_dir.empty()) {
       std::filesystem::create_directories(c.out_dir);

@@ -785,7 +785,7 @@ std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges) {
   std::vector<Piece> exact;
   std::vector<Body> out;
   for (const Body& body : pieces) {
-    if (convexity(body).convex)
+    if (is_convex(body))
       exact.push_back(piece_of(body, ctx));
     else
       out.push_back(body);  // not convex after rounding (CGAL's slivers): left as it is
