@@ -239,6 +239,21 @@ TEST(IsConvex, LocallyConvexSurfaceWoundTwiceIsNotConvex) {
       EXPECT_NE(wound.face_side(e.left_face, wound.vertices()[static_cast<size_t>(x)]), Sign::Negative);
 }
 
+TEST(IsConvex, FloatRoundedTriangleSphereListsTheSameFacesAsTheDefinition) {
+  // A sphere's triangles with coordinates rounded to float (as binary STL stores them): many
+  // diagonals of the former quadrilaterals become slightly reflex, so the body is not convex,
+  // and the non-convex faces come from the hull-based listing.
+  Body s = sphere({0.1, 0.2, 0.3}, 1, 2e-3);
+  std::vector<Vec3> v;
+  for (const Vec3& p : s.vertices())
+    v.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  std::vector<Face> f;
+  for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
+  Body rounded(v, f);
+  expect_matches_oracle(rounded, "float sphere");
+  EXPECT_FALSE(convexity(rounded).nonconvex_faces.empty());
+}
+
 TEST(IsConvex, FineSphereIsConvex) {
   Body s = sphere({1, 2, 3}, 2, 2e-5);
   ASSERT_GT(s.face_count(), 20000);

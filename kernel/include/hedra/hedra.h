@@ -41,6 +41,7 @@
 
 // visibility
 #include "hedra/visibility/occlusion.h"
+#include "hedra/visibility/outline.h"
 #include "hedra/visibility/polygon_union.h"
 #include "hedra/visibility/roberts.h"
 #include "hedra/visibility/shadows.h"

@@ -1,5 +1,11 @@
 #include "hedra/mesh/convexity.h"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Mpzf.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -335,6 +341,125 @@ std::vector<int> nonconvex_faces_by_definition(const Body& body, bool first_only
   return out;
 }
 
+// Exact sign of n·(w − u), n = (b − a) × (c − a): which of w and u lies farther along the
+// outer normal of plane (a, b, c). A static filter, then Mpzf (exact for sums and products of
+// doubles).
+Sign compare_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w, const Vec3& u) {
+  const Vec3 x = b - a, y = c - a, z = w - u;
+  const double det = x.dot(y.cross(z));
+  const double permanent = std::abs(x.x()) * (std::abs(y.y() * z.z()) + std::abs(y.z() * z.y())) +
+                           std::abs(x.y()) * (std::abs(y.z() * z.x()) + std::abs(y.x() * z.z())) +
+                           std::abs(x.z()) * (std::abs(y.x() * z.y()) + std::abs(y.y() * z.x()));
+  if (permanent > 1e-250 && permanent < 1e250) {
+    const double bound = 1e-14 * permanent;
+    if (det > bound) return Sign::Positive;
+    if (det < -bound) return Sign::Negative;
+  }
+  using M = CGAL::Mpzf;
+  auto d = [](double p, double q) { return M(p) - M(q); };
+  const M x0 = d(b.x(), a.x()), x1 = d(b.y(), a.y()), x2 = d(b.z(), a.z());
+  const M y0 = d(c.x(), a.x()), y1 = d(c.y(), a.y()), y2 = d(c.z(), a.z());
+  const M z0 = d(w.x(), u.x()), z1 = d(w.y(), u.y()), z2 = d(w.z(), u.z());
+  const M e = x0 * (y1 * z2 - y2 * z1) + x1 * (y2 * z0 - y0 * z2) + x2 * (y0 * z1 - y1 * z0);
+  const int sign = CGAL::sign(e);
+  return sign > 0 ? Sign::Positive : (sign < 0 ? Sign::Negative : Sign::Zero);
+}
+
+// The non-convex faces, by the definition, through the convex hull of the vertices: a linear
+// function's maximum over the vertices is reached at a hull vertex, and on a convex polytope a
+// vertex no neighbour of which is higher is a maximum. So for a face whose vertices all lie on
+// its support plane, "some vertex not on f is strictly outside" means "the hull's highest
+// vertex along f's outer normal is strictly outside": from a support vertex of f on the hull,
+// look at its hull neighbours; otherwise climb the hull graph with exact comparisons. A face
+// with a vertex of its own strictly outside its plane (rounded) is checked against every vertex.
+// Cost O(V log V) for the hull, then O(hull degree) per face with a vertex on the hull.
+std::vector<int> nonconvex_faces_by_hull(const Body& body) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Mesh = CGAL::Surface_mesh<K::Point_3>;
+  const auto& v = body.vertices();
+  const int n = body.vertex_count();
+  std::vector<int> by_position(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) by_position[static_cast<size_t>(i)] = i;
+  auto less = [&](int i, int j) {
+    const Vec3 &p = v[static_cast<size_t>(i)], &q = v[static_cast<size_t>(j)];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  };
+  std::sort(by_position.begin(), by_position.end(), less);
+  std::vector<K::Point_3> points;
+  points.reserve(v.size());
+  for (const Vec3& p : v) points.emplace_back(p.x(), p.y(), p.z());
+  Mesh hull;
+  CGAL::convex_hull_3(points.begin(), points.end(), hull);
+  // Hull graph on body vertex indices (CSR); hull_id[i] >= 0 for hull vertices.
+  std::vector<int> hull_id(v.size(), -1), body_id;
+  for (auto hv : hull.vertices()) {
+    const K::Point_3& q = hull.point(hv);
+    const Vec3 p(q.x(), q.y(), q.z());
+    auto it = std::lower_bound(by_position.begin(), by_position.end(), -1, [&](int i, int) {
+      const Vec3& r = v[static_cast<size_t>(i)];
+      return std::tie(r.x(), r.y(), r.z()) < std::tie(p.x(), p.y(), p.z());
+    });
+    hull_id[static_cast<size_t>(*it)] = static_cast<int>(hv.idx());
+  }
+  size_t hull_size = 0;
+  for (auto hv : hull.vertices()) hull_size = std::max(hull_size, static_cast<size_t>(hv.idx()) + 1);
+  body_id.assign(hull_size, -1);
+  for (int i = 0; i < n; ++i)
+    if (hull_id[static_cast<size_t>(i)] >= 0) body_id[static_cast<size_t>(hull_id[static_cast<size_t>(i)])] = i;
+  std::vector<std::vector<int>> neighbours(hull_size);
+  for (auto hv : hull.vertices())
+    for (auto w : CGAL::vertices_around_target(hull.halfedge(hv), hull))
+      neighbours[hv.idx()].push_back(body_id[w.idx()]);
+
+  std::vector<int> out;
+  std::vector<int> stamp(v.size(), -1);
+  int top = -1;
+  for (int i = 0; i < n && top < 0; ++i)
+    if (hull_id[static_cast<size_t>(i)] >= 0) top = i;  // last maximum found: a good start for the next
+  for (int f = 0; f < body.face_count(); ++f) {
+    const auto& s = body.support(f);
+    const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
+               &c = v[static_cast<size_t>(s[2])];
+    auto phi = [&](int x) { return orient(a, b, c, v[static_cast<size_t>(x)]); };
+    bool own_outside = false;
+    for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
+      for (int x : loop) {
+        stamp[static_cast<size_t>(x)] = f;
+        if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive) own_outside = true;
+      }
+    bool outside = false;
+    if (own_outside) {
+      for (int x = 0; x < n && !outside; ++x)
+        outside = stamp[static_cast<size_t>(x)] != f && phi(x) == Sign::Positive;
+    } else {
+      // Every vertex of f is on or inside its plane, so a vertex strictly outside is not on f.
+      int start = -1;
+      for (int x : s)
+        if (hull_id[static_cast<size_t>(x)] >= 0) start = x;
+      if (start >= 0) {
+        for (int w : neighbours[static_cast<size_t>(hull_id[static_cast<size_t>(start)])])
+          if (phi(w) == Sign::Positive) { outside = true; break; }
+      } else {
+        int u = top;
+        for (bool moved = true; moved;) {
+          moved = false;
+          for (int w : neighbours[static_cast<size_t>(hull_id[static_cast<size_t>(u)])])
+            if (compare_along(a, b, c, v[static_cast<size_t>(w)], v[static_cast<size_t>(u)]) ==
+                Sign::Positive) {
+              u = w;
+              moved = true;
+              break;
+            }
+        }
+        top = u;
+        outside = phi(u) == Sign::Positive;
+      }
+    }
+    if (outside) out.push_back(f);
+  }
+  return out;
+}
+
 }  // namespace
 
 ConvexityCertificate certify_convexity(const Body& body) {
@@ -362,7 +487,7 @@ ConvexityReport convexity(const Body& body) {
     report.convex = true;
     return report;
   }
-  report.nonconvex_faces = nonconvex_faces_by_definition(body, false);
+  report.nonconvex_faces = nonconvex_faces_by_hull(body);
   report.convex = report.nonconvex_faces.empty();
   return report;
 }
