@@ -214,6 +214,68 @@ TEST(IsConvex, CoplanarSplitFacesAreConvex) {
   EXPECT_EQ(certify_convexity(cube), ConvexityCertificate::Convex);
 }
 
+TEST(IsConvex, CollinearVerticesAndFilledHolesAreCertified) {
+  // A box whose edges carry midpoints (every face has collinear vertices), and a box whose
+  // top is a face with a hole filled by a coplanar face (edges along a hole loop are flat).
+  std::vector<Vec3> v;
+  auto id = [&](double x, double y, double z) {
+    for (size_t i = 0; i < v.size(); ++i)
+      if (v[i] == Vec3(x, y, z)) return static_cast<int>(i);
+    v.emplace_back(x, y, z);
+    return static_cast<int>(v.size()) - 1;
+  };
+  // Each face: its corners counter-clockwise from outside with the edge midpoints between.
+  auto face = [&](std::vector<Vec3> corners) {
+    std::vector<int> loop;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      const Vec3 a = corners[i], b = corners[(i + 1) % corners.size()], m = (a + b) / 2;
+      loop.push_back(id(a.x(), a.y(), a.z()));
+      loop.push_back(id(m.x(), m.y(), m.z()));
+    }
+    return Face(loop);
+  };
+  std::vector<Face> f = {
+      face({{0, 0, 0}, {0, 2, 0}, {2, 2, 0}, {2, 0, 0}}), face({{0, 0, 2}, {2, 0, 2}, {2, 2, 2}, {0, 2, 2}}),
+      face({{0, 0, 0}, {2, 0, 0}, {2, 0, 2}, {0, 0, 2}}), face({{2, 0, 0}, {2, 2, 0}, {2, 2, 2}, {2, 0, 2}}),
+      face({{2, 2, 0}, {0, 2, 0}, {0, 2, 2}, {2, 2, 2}}), face({{0, 2, 0}, {0, 0, 0}, {0, 0, 2}, {0, 2, 2}})};
+  Body midpoints(v, f);
+  expect_matches_oracle(midpoints, "box with edge midpoints");
+  EXPECT_EQ(certify_convexity(midpoints), ConvexityCertificate::Convex);
+
+  Body plate = prism({{0, 0}, {4, 0}, {4, 4}, {0, 4}}, 0, 1, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}});
+  std::vector<Vec3> pv = plate.vertices();
+  std::vector<Face> pf;
+  for (const Face& g : plate.faces()) {
+    if (g.loops.size() == 2 && plate.inner_normal(static_cast<int>(&g - &plate.faces()[0])).z() < 0) {
+      pf.push_back(g);  // the top face with its hole
+      std::vector<int> fill(g.loops[1].rbegin(), g.loops[1].rend());
+      pf.push_back(Face(fill));  // the hole, filled flush
+    } else if (g.loops.size() == 2) {
+      pf.push_back(Face(g.loops[0]));  // the bottom without its hole
+    }
+  }
+  ASSERT_EQ(pf.size(), 3u);
+  // Keep the outer walls; drop the hole walls and the vertices only they used.
+  for (const Face& g : plate.faces())
+    if (g.loops.size() == 1) {
+      bool outer = true;
+      for (int x : g.loops[0]) outer = outer && (pv[x].x() == 0 || pv[x].x() == 4 || pv[x].y() == 0 || pv[x].y() == 4);
+      if (outer) pf.push_back(g);
+    }
+  // The bottom's hole vertices are no longer used: rebuild with used vertices only.
+  std::vector<int> remap(pv.size(), -1);
+  std::vector<Vec3> used;
+  for (Face& g : pf)
+    for (auto& loop : g.loops)
+      for (int& x : loop) {
+        if (remap[x] < 0) { remap[x] = static_cast<int>(used.size()); used.push_back(pv[x]); }
+        x = remap[x];
+      }
+  Body filled(used, pf);
+  expect_matches_oracle(filled, "plate with a filled hole");
+  EXPECT_EQ(certify_convexity(filled), ConvexityCertificate::Convex);
+}
+
 TEST(IsConvex, LocallyConvexSurfaceWoundTwiceIsNotConvex) {
   // A bipyramid over the heptagram {7/2}: the equator runs twice around the axis, every edge
   // is convex and the centre lies inside every face plane, yet the surface wraps twice around
