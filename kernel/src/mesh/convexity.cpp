@@ -321,26 +321,6 @@ class Certificate {
   std::vector<int> start_, incident_;
 };
 
-// The definition, face by face: O(F·V).
-std::vector<int> nonconvex_faces_by_definition(const Body& body, bool first_only) {
-  std::vector<int> out;
-  const auto& vertices = body.vertices();
-  std::vector<int> stamp(vertices.size(), -1);
-  for (int f = 0; f < body.face_count(); ++f) {
-    for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
-      for (int v : loop) stamp[static_cast<size_t>(v)] = f;
-    for (size_t v = 0; v < vertices.size(); ++v) {
-      if (stamp[v] == f) continue;
-      if (body.face_side(f, vertices[v]) == Sign::Negative) {
-        out.push_back(f);
-        if (first_only) return out;
-        break;
-      }
-    }
-  }
-  return out;
-}
-
 // Exact sign of n·(w − u), n = (b − a) × (c − a): which of w and u lies farther along the
 // outer normal of plane (a, b, c). A static filter, then Mpzf (exact for sums and products of
 // doubles).
@@ -477,7 +457,7 @@ bool is_convex(const Body& body) {
     case Verdict::NotConvex: return false;
     case Verdict::Unknown: break;
   }
-  return nonconvex_faces_by_definition(body, true).empty();
+  return nonconvex_faces_by_hull(body).empty();
 }
 
 ConvexityReport convexity(const Body& body) {

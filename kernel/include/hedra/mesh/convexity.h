@@ -33,8 +33,10 @@ struct ConvexityReport {
 /// triangles (quadrilaterals) plus a local search that relates the face's support plane to the
 /// convex surface. A strictly reflex edge proves non-convexity at once. Cases the certificate
 /// does not settle (rounded faces of five or more vertices, a centre on a face plane, folded
-/// coplanar faces) fall back to the O(F·V) definition, so the answer is always exact.
-/// Cost O(V + E) when certified, O(F·V) in the fallback.
+/// coplanar faces) fall back to the definition evaluated through the convex hull (see
+/// convexity()), so the answer is always exact.
+/// Cost O(V + E) when certified; O(V log V + Σ hull degrees) in the fallback, plus O(V) per
+/// face with a rounded vertex of its own outside its plane.
 bool is_convex(const Body& body);
 
 /// What the O(V + E) certificate of is_convex() alone settles.
@@ -45,9 +47,12 @@ enum class ConvexityCertificate { Convex, NotConvex, Undecided };
 ConvexityCertificate certify_convexity(const Body& body);
 
 /// Exact test with the list of non-convex faces: the verdict of is_convex(); when the body is
-/// not convex, each face's plane is evaluated at every vertex not on the face through the
-/// exact predicate layer (Body::face_side), the course's "equivalent formulation".
-/// Cost O(V + E) for a convex body, O(F·V) for a non-convex one.
+/// not convex, the faces some vertex not on them lies strictly outside of, found through the
+/// exact convex hull of the vertices (CGAL convex_hull_3): the highest vertex along a face's
+/// outer normal is a hull vertex, and a hull vertex none of whose hull neighbours is higher is
+/// the highest (hill climbing with exact comparisons where the face has no vertex on the hull).
+/// Cost O(V + E) for a convex body; O(V log V) plus the hull degree of a support vertex per
+/// face (a climb where none is on the hull) for a non-convex one.
 ConvexityReport convexity(const Body& body);
 
 /// The same exact test on raw, unvalidated data (so flat input can be reported as flat).
