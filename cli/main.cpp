@@ -145,6 +145,9 @@ int main(int argc, char** argv) {
   } catch (const hedra::IoError& e) {
     std::cerr << "hedra: error: " << e.what() << "\n";
     return kExitInvalidInput;
+  } catch (const hedra::InternalError& e) {
+    std::cerr << "hedra: internal error: " << e.what() << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "hedra: internal error: " << e.what() << "\n";
     return 1;

@@ -8,10 +8,8 @@
 #include <numbers>
 #include <optional>
 
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include "hedra/core/error.h"
+#include "hedra/core/parallel.h"
 #include "hedra/visibility/occlusion.h"
 #include "hedra/core/tolerance.h"
 #include "detail/scan.h"
@@ -61,7 +59,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
   }
 }
 
-// ---- Lights and the lighting model (algorithms.md §8) ----
+// ---- Lights and the lighting model (docs/algorithms.md §8) ----
 
 // x^n: by repeated squaring for the usual integer exponents (a few ulps from std::pow, and
 // several times faster), std::pow otherwise.
@@ -275,7 +273,8 @@ ExactMask prepare_mask(const SurfaceShadows& shadows, const SceneGeometry& geome
 void scan_mask(ExactMask& mask, const detail::SampleGrid& grid, int tile_size) {
   mask.tile_spans.assign(static_cast<size_t>(mask.tiles_x) * mask.tiles_y, {});
   const int tile_samples = tile_size * grid.g;
-  tbb::parallel_for(0, mask.tiles_y, [&](int band) {
+  parallel_for(static_cast<size_t>(mask.tiles_y), 0, [&](size_t index) {
+    const int band = static_cast<int>(index);
     const int r0 = band * tile_samples, r1 = std::min(r0 + tile_samples, grid.rows);
     std::vector<double> xs;
     for (uint32_t index : mask.band_lists[static_cast<size_t>(band)]) {
@@ -429,10 +428,9 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
   for (const Light& l : scene.lights) l.validate();
   const int g = options.aa == 1 ? 1 : options.aa == 4 ? 2 : 4;
 
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   Image image;
-  arena.execute([&] {
-    // ---- Set-up: geometry, view, culling (algorithms.md §6 stage 1 by the body matrix) ----
+  with_threads(options.threads, [&] {
+    // ---- Set-up: geometry, view, culling (docs/algorithms.md §6.1 by the body matrix) ----
     const SceneGeometry geometry = SceneGeometry::of(scene);
     const Eigen::AlignedBox3d box = geometry.bbox();
     const RasterView view = scene_view(scene, width, height);
@@ -441,7 +439,7 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
     std::vector<uint8_t> drawn(faces), self_shadow(faces * static_cast<size_t>(lights), 0);
     std::vector<Viewpoint> light_points;
     for (const Light& l : scene.lights) light_points.push_back(Viewpoint::of(l));
-    tbb::parallel_for(size_t(0), faces, [&](size_t f) {
+    parallel_for(faces, 0, [&](size_t f) {
       const SceneGeometry::FaceRef& face = geometry.faces[f];
       const Body& body = geometry.bodies[face.body].body->body;
       drawn[f] = facing(body, face.face, eye) == Facing::Front;
@@ -466,7 +464,7 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
     auto material_of = [&](int f) -> const Material& {
       return geometry.bodies[geometry.faces[f].body].body->material;
     };
-    tbb::parallel_for(size_t(0), polygons, [&](size_t i) {
+    parallel_for(polygons, 0, [&](size_t i) {
       if (shading == Shading::Flat) return;
       const SceneGeometry::Tri& tri = geometry.triangles[raster.triangle[i]];
       const Vec3 &a = geometry.positions[tri.v[0]], &b = geometry.positions[tri.v[1]],
@@ -483,7 +481,7 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
       }
     });
     if (shading == Shading::Flat)
-      tbb::parallel_for(size_t(0), faces, [&](size_t f) {
+      parallel_for(faces, 0, [&](size_t f) {
         if (!drawn[f]) return;
         const SceneGeometry::FaceRef& face = geometry.faces[f];
         const Material& m = material_of(static_cast<int>(f));
@@ -526,7 +524,7 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
     std::vector<Barycentric> face_triangles;
     if (bvh && probes.size() > 1) {
       face_triangles.resize(geometry.triangles.size());
-      tbb::parallel_for(size_t(0), geometry.triangles.size(), [&](size_t t) {
+      parallel_for(geometry.triangles.size(), 0, [&](size_t t) {
         const SceneGeometry::Tri& tri = geometry.triangles[t];
         if (drawn[tri.face])
           face_triangles[t] = Barycentric::of(geometry.positions[tri.v[0]], geometry.positions[tri.v[1]],
@@ -561,7 +559,8 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
       record->key.assign(n, INFINITY);
     }
     const Vec3 background = scene.image.background;
-    tbb::parallel_for(0, raster.bins.count(), [&](int tile) {
+    parallel_for(static_cast<size_t>(raster.bins.count()), 0, [&](size_t index) {
+      const int tile = static_cast<int>(index);
       const detail::TileRect rect = detail::tile_rect(raster, tile);
       const int n = rect.size(), stride = rect.columns();
       std::vector<double> key(static_cast<size_t>(n)), scratch;

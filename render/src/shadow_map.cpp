@@ -4,8 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include <tbb/parallel_for.h>
-
+#include "hedra/core/parallel.h"
 #include "hedra/visibility/occlusion.h"
 #include "detail/triangle_raster.h"
 
@@ -81,7 +80,8 @@ void ShadowMap::render_view(const SceneGeometry& geometry, const std::vector<uin
   const int width = v.view.width();
   v.depth.assign(static_cast<size_t>(width) * v.view.height(), INFINITY);
   const bool perspective = v.view.is_perspective();
-  tbb::parallel_for(0, raster.bins.count(), [&](int tile) {
+  parallel_for(static_cast<size_t>(raster.bins.count()), 0, [&](size_t index) {
+    const int tile = static_cast<int>(index);
     const detail::TileRect rect = detail::tile_rect(raster, tile);
     std::vector<double> key(static_cast<size_t>(rect.size()));
     std::vector<int> polygon(key.size());

@@ -1,6 +1,6 @@
-// The raster renderer (render/raster.h): pixel tests on small images against formulas and
-// independent oracles (ray casting for visibility, the exact shadow polygons and kernel/shadows'
-// exact point test for shadows), and golden images.
+// The raster renderer (hedra/render/raster.h): pixel tests on small images against formulas and
+// independent oracles (ray casting for visibility, the exact shadow polygons and the exact point
+// test of hedra/visibility/shadows.h for shadows), and golden images.
 #include "hedra/render/raster.h"
 
 #include <gtest/gtest.h>
@@ -170,9 +170,9 @@ TEST(RasterOptions, RejectsBadSettings) {
 
 // ---- Lighting ----
 
-// One face seen face-on by the course's viewer at +∞ on z under a directional light: every
-// pixel of it has I = I_a k_a C + I_l [k_d (n̂·L̂) C + k_s (R̂·Ŝ)^n] exactly (rounded to 8 bits),
-// in each shading mode.
+// One face seen face-on by the course's viewer (docs/algorithms.md §6.1) at +∞ on z under a
+// directional light: every pixel of it has I = I_a k_a C + I_l [k_d (n̂·L̂) C + k_s (R̂·Ŝ)^n]
+// exactly (rounded to 8 bits), in each shading mode.
 TEST(RasterLighting, SingleLitFaceHasTheFormulaIntensity) {
   Scene scene;
   Material m;
@@ -453,7 +453,7 @@ TEST(RasterVisibility, OutputDoesNotDependOnThreadsOrTiles) {
 
 // Exact shadows: a sample is dark for a light exactly when its point lies in a shadow polygon
 // of that light on its face (or the face turns away from the light), checked against the
-// polygons and, independently, against kernel/shadows' exact point test.
+// polygons and, independently, against the exact point test of hedra/visibility/shadows.h.
 TEST(RasterShadows, ExactShadowPixelsMatchTheShadowPolygons) {
   const Scene scene = shadow_scene();
   const ShadowResult exact = compute_shadows(scene);

@@ -8,6 +8,7 @@
 #include "hedra/core/body.h"
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/plane.h"
 #include "hedra/core/predicates.h"
 #include "hedra/core/primitives.h"
@@ -42,9 +43,11 @@
 // visibility
 #include "hedra/visibility/occlusion.h"
 #include "hedra/visibility/outline.h"
+#include "hedra/visibility/polygon_set.h"
 #include "hedra/visibility/polygon_union.h"
 #include "hedra/visibility/roberts.h"
 #include "hedra/visibility/shadows.h"
+#include "hedra/visibility/sun_study.h"
 
 // io
 #include "hedra/io/atomic_file.h"

@@ -1,9 +1,5 @@
 #include "hedra/clip/batch_clip.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -11,6 +7,7 @@
 #include <limits>
 
 #include "hedra/core/error.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/tolerance.h"
 
 // The vector helpers below are internal and inlined, so GCC's note that passing 32-byte vectors
@@ -378,16 +375,7 @@ void clip_batch(const ConvexClipper& clipper, const SegmentArrays& segments, Bat
     run(0, n);
     return;
   }
-  const auto parallel = [&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain),
-                      [&](const tbb::blocked_range<size_t>& r) { run(r.begin(), r.end()); });
-  };
-  if (options.threads > 0) {
-    tbb::task_arena arena(options.threads);
-    arena.execute(parallel);
-  } else {
-    parallel();
-  }
+  parallel_blocks(n, options.threads, kGrain, run);
 }
 
 }  // namespace hedra

@@ -18,33 +18,18 @@ void check_point(const Vec3& p) {
   throw InvalidInput(buf);
 }
 
-// One side of the visible part while the planes are scanned: an exact end of the segment
-// (plane < 0, t exactly 0 or 1) or the crossing of plane `plane` (t rounded, ± error).
+// One side of the visible part while the planes are scanned: a SegmentEnd and the index of
+// its plane in the clipper (−1 for an exact end of the segment).
 struct Bound {
-  double t;
-  double error;
+  SegmentEnd end;
   int plane;
 };
 
-// The static filter of side_of_plane, reusing the value and bound already computed.
-Sign sign_of(const ExactPlane& f, const Vec3& p, double value, double bound) {
-  if (value > bound) return Sign::Positive;
-  if (value < -bound) return Sign::Negative;
-  return side_of_plane(f, p);
-}
+Bound bound_at(double t) { return {{t, 0, nullptr}, -1}; }
 
-// Sign of a − b for two bounds of the same segment; fa, fb are their planes (when crossings).
-Sign compare_bounds(const Bound& a, const ExactPlane* fa, const Bound& b, const ExactPlane* fb,
-                    const Vec3& p1, const Vec3& p2) {
-  if (a.plane < 0 && b.plane < 0)
-    return a.t < b.t ? Sign::Negative : (a.t > b.t ? Sign::Positive : Sign::Zero);
-  // A crossing lies strictly inside (0, 1): its plane separates the end points strictly.
-  if (a.plane < 0) return a.t == 0 ? Sign::Negative : Sign::Positive;
-  if (b.plane < 0) return b.t == 0 ? Sign::Positive : Sign::Negative;
-  if (fa == fb) return Sign::Zero;
-  if (a.t - a.error > b.t + b.error) return Sign::Positive;
-  if (a.t + a.error < b.t - b.error) return Sign::Negative;
-  return compare_crossings(*fa, *fb, p1, p2);
+// Sign of a − b for two bounds of the same segment.
+Sign compare_bounds(const Bound& a, const Bound& b, const Vec3& p1, const Vec3& p2) {
+  return compare_ends(a.end, b.end, p1, p2);
 }
 
 const ExactPlane* plane_of(std::span<const ConvexClipper> pieces, const ClipEnd& end) {
@@ -53,9 +38,10 @@ const ExactPlane* plane_of(std::span<const ConvexClipper> pieces, const ClipEnd&
 
 Bound bound_of(std::span<const ConvexClipper> pieces, const ClipEnd& end, const Vec3& p1,
                const Vec3& p2) {
-  if (end.plane < 0) return {end.t, 0, -1};
-  const Crossing x = crossing(*plane_of(pieces, end), p1, p2);
-  return {x.t, x.error, end.plane};
+  if (end.plane < 0) return bound_at(end.t);
+  const ExactPlane* f = plane_of(pieces, end);
+  const Crossing x = crossing(*f, p1, p2);
+  return {{x.t, x.error, f}, end.plane};
 }
 
 }  // namespace
@@ -65,18 +51,30 @@ Crossing crossing(const ExactPlane& f, const Vec3& p1, const Vec3& p2) {
                               f.error_bound(p2.cwiseAbs().maxCoeff()));
 }
 
+Sign compare_ends(const SegmentEnd& a, const SegmentEnd& b, const Vec3& p1, const Vec3& p2) {
+  if (!a.plane && !b.plane)
+    return a.t < b.t ? Sign::Negative : (a.t > b.t ? Sign::Positive : Sign::Zero);
+  // A crossing lies strictly inside (0, 1): its plane separates the end points strictly.
+  if (!a.plane) return a.t == 0 ? Sign::Negative : Sign::Positive;
+  if (!b.plane) return b.t == 0 ? Sign::Positive : Sign::Negative;
+  if (a.plane == b.plane) return Sign::Zero;
+  if (a.t - a.error > b.t + b.error) return Sign::Positive;
+  if (a.t + a.error < b.t - b.error) return Sign::Negative;
+  return compare_crossings(*a.plane, *b.plane, p1, p2);
+}
+
 std::optional<ClipPart> clip_segment(const ConvexClipper& clipper, const Vec3& p1, const Vec3& p2) {
   check_point(p1);
   check_point(p2);
   const double m1 = p1.cwiseAbs().maxCoeff(), m2 = p2.cwiseAbs().maxCoeff();
   // Step 4: t_low = 0, t_up = 1 (exact ends of the segment).
-  Bound low{0, 0, -1}, up{1, 0, -1};
+  Bound low = bound_at(0), up = bound_at(1);
   for (int i = 0; i < clipper.plane_count(); ++i) {
     const ExactPlane& f = clipper.plane(i);
     // Step 5: Wn = f(P1) and f(P2) = Wn + Dn, their signs exact.
     const double w = f.value(p1), e = f.value(p2);
     const double bw = f.error_bound(m1), be = f.error_bound(m2);
-    const Sign s1 = sign_of(f, p1, w, bw), s2 = sign_of(f, p2, e, be);
+    const Sign s1 = side_of_plane(f, p1, w, bw), s2 = side_of_plane(f, p2, e, be);
     // Both ends strictly outside this plane: "Dn = 0 and Wn < 0", or "t > 1" / "t < 0".
     if (s1 == Sign::Negative && s2 == Sign::Negative) return std::nullopt;
     // Both ends inside or on the plane (a point, parallel inside, in the face plane, or a
@@ -85,50 +83,86 @@ std::optional<ClipPart> clip_segment(const ConvexClipper& clipper, const Vec3& p
     if (s1 == Sign::Negative) {
       // Dn > 0: a lower bound. P2 on the plane gives t = 1 exactly.
       if (s2 == Sign::Zero) {
-        low = {1, 0, -1};
+        low = bound_at(1);
         continue;
       }
-      if (low.plane < 0 && low.t == 1) continue;  // nothing exceeds an exact 1
+      if (low.plane < 0 && low.end.t == 1) continue;  // nothing exceeds an exact 1
       Crossing x = crossing_from_values(w, e, bw, be);
       if (!(x.t == x.t)) x = {0.5, 0.5};  // w = e = 0 in double: t unknown within [0, 1]
-      const Bound candidate{x.t, x.error, i};
-      if (low.plane < 0 ||
-          compare_bounds(candidate, &f, low, &clipper.plane(low.plane), p1, p2) == Sign::Positive)
+      const Bound candidate{{x.t, x.error, &f}, i};
+      if (low.plane < 0 || compare_bounds(candidate, low, p1, p2) == Sign::Positive)
         low = candidate;  // ties keep the first plane
     } else {
       // Dn < 0: an upper bound. P1 on the plane gives t = 0 exactly.
       if (s1 == Sign::Zero) {
-        up = {0, 0, -1};
+        up = bound_at(0);
         continue;
       }
-      if (up.plane < 0 && up.t == 0) continue;
+      if (up.plane < 0 && up.end.t == 0) continue;
       Crossing x = crossing_from_values(w, e, bw, be);
       if (!(x.t == x.t)) x = {0.5, 0.5};
-      const Bound candidate{x.t, x.error, i};
-      if (up.plane < 0 ||
-          compare_bounds(candidate, &f, up, &clipper.plane(up.plane), p1, p2) == Sign::Negative)
-        up = candidate;
+      const Bound candidate{{x.t, x.error, &f}, i};
+      if (up.plane < 0 || compare_bounds(candidate, up, p1, p2) == Sign::Negative) up = candidate;
     }
   }
   // Step 6: visible iff t_low ≤ t_up, decided exactly.
-  const ExactPlane* fl = low.plane < 0 ? nullptr : &clipper.plane(low.plane);
-  const ExactPlane* fu = up.plane < 0 ? nullptr : &clipper.plane(up.plane);
-  const Sign order = compare_bounds(low, fl, up, fu, p1, p2);
+  const Sign order = compare_bounds(low, up, p1, p2);
   if (order == Sign::Positive) return std::nullopt;
   ClipPart part;
-  part.start = {low.t, low.plane, 0};
-  part.end = {up.t, up.plane, 0};
+  part.start = {low.end.t, low.plane, 0};
+  part.end = {up.end.t, up.plane, 0};
   part.point = order == Sign::Zero || p1 == p2;
   // Rounding may invert ends that are equal or within their error bounds of each other.
   if (order == Sign::Zero || part.end.t < part.start.t) part.end.t = part.start.t;
   return part;
 }
 
+std::optional<SegmentPart> clip_segment_open(const ConvexClipper& clipper, const Vec3& p1,
+                                             const Vec3& p2) {
+  const double m1 = p1.cwiseAbs().maxCoeff(), m2 = p2.cwiseAbs().maxCoeff();
+  SegmentEnd lo{0, 0, nullptr}, hi{1, 0, nullptr};
+  for (const ExactPlane& f : clipper.planes()) {
+    const double w = f.value(p1), e = f.value(p2);
+    const double bw = f.error_bound(m1), be = f.error_bound(m2);
+    const Sign s1 = side_of_plane(f, p1, w, bw), s2 = side_of_plane(f, p2, e, be);
+    if (s1 != Sign::Positive && s2 != Sign::Positive) return std::nullopt;
+    if (s1 == Sign::Positive && s2 == Sign::Positive) continue;
+    if (s1 == Sign::Zero || s2 == Sign::Zero) continue;  // bounds at t = 0 or 1 exactly
+    Crossing x = crossing_from_values(w, e, bw, be);
+    if (!(x.t == x.t)) x = {0.5, 0.5};  // both values 0 in double: t within [0, 1]
+    const SegmentEnd candidate{x.t, x.error, &f};
+    if (s1 == Sign::Negative) {
+      if (!lo.plane || compare_ends(candidate, lo, p1, p2) == Sign::Positive) lo = candidate;
+    } else if (!hi.plane || compare_ends(candidate, hi, p1, p2) == Sign::Negative) {
+      hi = candidate;
+    }
+  }
+  if (compare_ends(lo, hi, p1, p2) != Sign::Negative) return std::nullopt;
+  if (lo.plane && hi.plane && hi.t < lo.t) hi.t = lo.t;  // rounding of ends within their bounds
+  return SegmentPart{lo, hi};
+}
+
+void merge_parts(std::vector<SegmentPart>& parts, const Vec3& p1, const Vec3& p2) {
+  if (parts.size() < 2) return;
+  std::sort(parts.begin(), parts.end(), [&](const SegmentPart& a, const SegmentPart& b) {
+    return compare_ends(a.lo, b.lo, p1, p2) == Sign::Negative;
+  });
+  size_t last = 0;
+  for (size_t i = 1; i < parts.size(); ++i) {
+    SegmentPart& back = parts[last];
+    if (compare_ends(parts[i].lo, back.hi, p1, p2) != Sign::Positive) {
+      if (compare_ends(parts[i].hi, back.hi, p1, p2) == Sign::Positive) back.hi = parts[i].hi;
+    } else {
+      parts[++last] = parts[i];
+    }
+  }
+  parts.resize(last + 1);
+}
+
 Sign compare_ends(std::span<const ConvexClipper> pieces, const ClipEnd& a, const ClipEnd& b,
                   const Vec3& p1, const Vec3& p2) {
   if (a.plane >= 0 && b.plane >= 0 && a.piece == b.piece && a.plane == b.plane) return Sign::Zero;
-  return compare_bounds(bound_of(pieces, a, p1, p2), plane_of(pieces, a),
-                        bound_of(pieces, b, p1, p2), plane_of(pieces, b), p1, p2);
+  return compare_bounds(bound_of(pieces, a, p1, p2), bound_of(pieces, b, p1, p2), p1, p2);
 }
 
 std::vector<ClipPart> clip_segment(std::span<const ConvexClipper> pieces, const Vec3& p1,

@@ -1,6 +1,7 @@
 #include "hedra/clip/polygon_clip.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/core/error.h"
@@ -40,21 +41,56 @@ Polygon3 finish(const std::vector<Point>& points) {
   return ring;
 }
 
-// The classic one-plane Sutherland–Hodgman stage: every vertex inside or on the plane, and a
-// new point where an edge crosses it strictly.
-std::vector<Point> single_ring(const Polygon3& poly, const std::vector<Sign>& side,
-                               const ExactPlane& f) {
-  const size_t n = poly.size();
-  std::vector<Point> out;
+// The classic one-plane Sutherland–Hodgman stage: every vertex inside or on the plane
+// (keep(i)), and a new point where an edge crosses the plane strictly (cross(i, j)); a
+// crossing ending or starting at a vertex on the plane is that vertex.
+template <class Keep, class Cross>
+void stage(size_t n, const std::vector<Sign>& side, Keep&& keep, Cross&& cross) {
   for (size_t i = 0; i < n; ++i) {
     const size_t j = (i + 1) % n;
-    const bool in_i = side[i] != Sign::Negative, in_j = side[j] != Sign::Negative;
-    if (in_i) out.push_back({poly[i], side[i] == Sign::Zero});
-    // A crossing ending or starting at a vertex on the plane is that vertex.
-    if (in_i != in_j && side[i] != Sign::Zero && side[j] != Sign::Zero)
-      out.push_back({crossing_point(f, poly[i], poly[j]), true});
+    if (side[i] != Sign::Negative) keep(i);
+    if ((side[i] == Sign::Positive && side[j] == Sign::Negative) ||
+        (side[i] == Sign::Negative && side[j] == Sign::Positive))
+      cross(i, j);
   }
+}
+
+std::vector<Point> single_ring(const Polygon3& poly, const std::vector<Sign>& side,
+                               const ExactPlane& f) {
+  std::vector<Point> out;
+  stage(
+      poly.size(), side, [&](size_t i) { out.push_back({poly[i], side[i] == Sign::Zero}); },
+      [&](size_t i, size_t j) { out.push_back({crossing_point(f, poly[i], poly[j]), true}); });
   return out;
+}
+
+bool lex_less(const Vec3& a, const Vec3& b) {
+  return a.x() < b.x() || (a.x() == b.x() && (a.y() < b.y() || (a.y() == b.y() && a.z() < b.z())));
+}
+
+// The coordinate axis a plane is perpendicular to, decided exactly from its defining points
+// (three points, or two points and a direction), or −1.
+int axis_plane(const ExactPlane& f) {
+  if (!f.by_points()) return -1;
+  const auto& p = f.points();
+  for (int k = 0; k < 3; ++k) {
+    const bool third = f.by_direction() ? p[2][k] == 0 : p[2][k] == p[0][k];
+    if (p[0][k] == p[1][k] && third) return k;
+  }
+  return -1;
+}
+
+Vec3 canonical_crossing(const ExactPlane& f, Vec3 v, Vec3 w) {
+  if (lex_less(w, v)) std::swap(v, w);
+  double t = crossing(f, v, w).t;
+  // Both plane values can round to the same double when the segment lies within rounding of
+  // the plane (the exact signs still differ): then every point of it is within the bound.
+  if (!std::isfinite(t)) t = 0.5;
+  Vec3 p = point_at(v, w, t);
+  // On a plane perpendicular to a coordinate axis the exact crossing has that plane's
+  // coordinate: set it, so that pieces cut by one such plane meet along exactly the same line.
+  if (const int k = axis_plane(f); k >= 0) p[k] = f.points()[0][k];
+  return p;
 }
 
 struct Chain {
@@ -228,6 +264,32 @@ Polygon3 sutherland_hodgman(const Polygon3& polygon, const ConvexClipper& clippe
     for (const Point& q : out) ring.push_back(q.p);
   }
   return ring;
+}
+
+bool clip_convex_polygon_open(const Polygon3& polygon, const ConvexClipper& clipper,
+                              Polygon3& out, PolygonClipScratch& scratch) {
+  out = polygon;
+  std::vector<Sign>& side = scratch.side;
+  for (const ExactPlane& f : clipper.planes()) {
+    const size_t n = out.size();
+    side.resize(n);
+    size_t pos = 0, neg = 0;
+    for (size_t i = 0; i < n; ++i) {
+      side[i] = side_of_plane(f, out[i]);
+      pos += side[i] == Sign::Positive;
+      neg += side[i] == Sign::Negative;
+    }
+    // Open: no vertex strictly inside leaves nothing of positive area strictly inside.
+    if (pos == 0) return false;
+    if (neg == 0) continue;
+    scratch.ring.clear();
+    stage(
+        n, side, [&](size_t i) { scratch.ring.push_back(out[i]); },
+        [&](size_t i, size_t j) { scratch.ring.push_back(canonical_crossing(f, out[i], out[j])); });
+    std::swap(out, scratch.ring);
+    if (out.size() < 3) return false;
+  }
+  return true;
 }
 
 Vec3 polygon_normal(const Polygon3& polygon) {

@@ -414,7 +414,7 @@ Location Body::classify(const Vec3& p) const {
     }
     if (!degenerate) return crossings % 2 ? Location::Inside : Location::Outside;
   }
-  throw std::logic_error("classify: every ray was degenerate");  // not reachable in practice
+  HEDRA_UNREACHABLE("classify: every ray was degenerate");  // not reachable in practice
 }
 
 Body Body::transformed(const Transform& t) const {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "hedra/core/error.h"
 
@@ -35,10 +36,57 @@ Vec2 drop(const Vec3& p, int axis) {
   }
 }
 
+// Static filter for the sign of det[u, v, w], u, v, w as given in double (differences already
+// rounded): Shewchuk's bound for orient3d is (7 + 56u)·u times the permanent of the rounded
+// differences; 1e-14 leaves a wide margin. nullopt when it cannot decide, or when the
+// permanent is so small or large that underflow or overflow could void the bound.
+std::optional<Sign> det3_filter(const Vec3& u, const Vec3& v, const Vec3& w) {
+  const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
+               m2 = v.x() * w.y() - v.y() * w.x();
+  const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
+  const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
+                           std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
+                           std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
+  if (!(permanent > 1e-250) || !(permanent < 1e250)) return std::nullopt;
+  const double bound = 1e-14 * permanent;
+  if (det > bound) return Sign::Positive;
+  if (det < -bound) return Sign::Negative;
+  return std::nullopt;
+}
+
 }  // namespace
 
 Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  if (const auto s = det3_filter(b - a, c - a, d - a)) return *s;
   return to_sign(CGAL::orientation(cg(a), cg(b), cg(c), cg(d)));
+}
+
+Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  if (const auto s = det3_filter(b - a, c - a, d)) return *s;
+  using Q = CGAL::Mpzf;
+  Q u[3], v[3], w[3];
+  for (int i = 0; i < 3; ++i) {
+    u[i] = Q(b[i]) - Q(a[i]);
+    v[i] = Q(c[i]) - Q(a[i]);
+    w[i] = Q(d[i]);
+  }
+  const Q det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+                u[2] * (v[0] * w[1] - v[1] * w[0]);
+  return to_sign(CGAL::sign(det));
+}
+
+bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d) {
+  // Filter: a cross product clearly away from zero (far beyond the rounding of b − a and of
+  // the products) decides; the exact test decides the rest.
+  const Vec3 e = b - a;
+  if (e.cross(d).cwiseAbs().maxCoeff() > 1e-10 * e.cwiseAbs().maxCoeff() * d.cwiseAbs().maxCoeff())
+    return false;
+  using Q = CGAL::Mpzf;
+  const Q x[3] = {Q(b.x()) - Q(a.x()), Q(b.y()) - Q(a.y()), Q(b.z()) - Q(a.z())};
+  const Q y[3] = {Q(d.x()), Q(d.y()), Q(d.z())};
+  return CGAL::sign(x[1] * y[2] - x[2] * y[1]) == CGAL::ZERO &&
+         CGAL::sign(x[2] * y[0] - x[0] * y[2]) == CGAL::ZERO &&
+         CGAL::sign(x[0] * y[1] - x[1] * y[0]) == CGAL::ZERO;
 }
 
 Sign orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
@@ -271,6 +319,16 @@ Sign side_of_plane(const ExactPlane& f, const Vec3& p) {
 }
 
 Sign direction_sign(const ExactPlane& f, const Vec3& d) {
+  // Static filter from the documented bound of the double form: |value(p) − F(p)| ≤
+  // error_bound(max |p_i|) with F = f / 2^e affine, so value(d) − value(0) is within
+  // error_bound(max |d_i|) + error_bound(0) of F(d) − F(0) = n·d / 2^e, plus the rounding of
+  // the subtraction. It decides unless n·d is within rounding of 0.
+  const double diff = f.value(d) - f.value(0, 0, 0);
+  const double bound =
+      (f.error_bound(d.cwiseAbs().maxCoeff()) + f.error_bound(0)) * (1 + 4 * kUnit) +
+      2 * kUnit * std::abs(diff);
+  if (diff > bound) return Sign::Positive;
+  if (diff < -bound) return Sign::Negative;
   return filtered_sign([&](auto zero) {
     using T = decltype(zero);
     T value(0);

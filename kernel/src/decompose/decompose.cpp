@@ -1,17 +1,13 @@
-// Exact plane splitting and convex decomposition. Both live in this one translation unit
-// because they share the exact machinery (CGAL Epeck points, constrained triangulation of
-// caps) and CGAL-heavy code is kept in few translation units.
+// Exact convex decomposition: cut every piece by the plane of one of its reflex edges until
+// all are convex, then merge pieces whose union is convex. The exact pieces and the cut itself
+// are split.cpp's (split_internal.h).
 #include "hedra/decompose/decompose.h"
 #include "decompose/decompose_internal.h"
+#include "decompose/split_internal.h"
 
-#include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
-#include <CGAL/Triangulation_face_base_with_info_2.h>
-#include <CGAL/Triangulation_vertex_base_with_info_2.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <list>
@@ -22,384 +18,16 @@
 
 #include "hedra/mesh/convexity.h"
 #include "hedra/core/error.h"
+#include "hedra/core/parallel.h"
 #include "hedra/mesh/merge_coplanar.h"
 #include "hedra/decompose/split.h"
 #include "hedra/core/tolerance.h"
 
 namespace hedra {
+
+using namespace internal;
+
 namespace {
-
-using EK = CGAL::Exact_predicates_exact_constructions_kernel;
-using P3 = EK::Point_3;
-using PL = EK::Plane_3;
-
-// ---- Data --------------------------------------------------------------------------------
-
-// Canonical planes, oriented outwards for input faces: a point strictly outside a face is on
-// the plane's positive side.
-struct Context {
-  std::vector<PL> planes;
-  std::vector<Plane> approx;  // unit-normal double planes, same orientation (for the guard)
-  double guard = 0;           // rounding guard for input vertices (see side())
-  // The floating-point variant: sides from double evaluation with a tolerance, cut points
-  // computed in double; no symbolic incidence. Kept for the speed–accuracy comparison.
-  bool floating = false;
-  double epsilon = 0;  // absolute, in world units
-  // Index of `approx` by unit normal (cells of kNormalCell, filled lazily up to `indexed`), so
-  // that piece_of() finds a face's plane among the planes met before without scanning them all.
-  std::unordered_map<std::uint64_t, std::vector<int>> normal_cells;
-  size_t indexed = 0;
-};
-
-constexpr double kNormalCell = 1e-3;
-
-std::uint64_t normal_key(long ix, long iy, long iz) {
-  auto u = [](long i) { return static_cast<std::uint64_t>(i + 4096) & 0x1fffff; };
-  return (u(ix) << 42) | (u(iy) << 21) | u(iz);
-}
-
-long normal_cell(double x) { return static_cast<long>(std::floor(x / kNormalCell)); }
-
-// The planes met before whose unit normal lies within `eps` (per component) of n or −n,
-// ascending; every plane when eps is not small against the cells.
-std::vector<int> planes_near(Context& ctx, const Vec3& n, double eps) {
-  for (; ctx.indexed < ctx.approx.size(); ++ctx.indexed) {
-    const Vec3 m = ctx.approx[ctx.indexed].normal();
-    ctx.normal_cells[normal_key(normal_cell(m.x()), normal_cell(m.y()), normal_cell(m.z()))]
-        .push_back(static_cast<int>(ctx.indexed));
-  }
-  std::vector<int> out;
-  if (!(eps < kNormalCell / 4)) {
-    out.resize(ctx.approx.size());
-    std::iota(out.begin(), out.end(), 0);
-    return out;
-  }
-  for (double sign : {1.0, -1.0}) {
-    const Vec3 m = sign * n;
-    for (long ix = normal_cell(m.x() - eps); ix <= normal_cell(m.x() + eps); ++ix)
-      for (long iy = normal_cell(m.y() - eps); iy <= normal_cell(m.y() + eps); ++iy)
-        for (long iz = normal_cell(m.z() - eps); iz <= normal_cell(m.z() + eps); ++iz) {
-          auto it = ctx.normal_cells.find(normal_key(ix, iy, iz));
-          if (it != ctx.normal_cells.end()) out.insert(out.end(), it->second.begin(), it->second.end());
-        }
-  }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
-}
-
-struct Point {
-  P3 p;
-  std::vector<int> on;  // sorted ids of canonical planes the point lies on, by construction
-  int origin = -1;      // input vertex id, or −1 for a point made by a cut
-  Vec3 input = Vec3::Zero();  // the input's double coordinates (origin >= 0)
-};
-
-// A triangle on canonical plane `plane`; sign +1: its outward normal is the plane's normal.
-struct Tri {
-  std::array<int, 3> v;
-  int plane;
-  int sign;
-};
-
-struct Piece {
-  std::vector<Point> pts;
-  std::vector<Tri> tris;
-};
-
-std::uint64_t key(int a, int b) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
-}
-
-// Side of a point with respect to canonical plane `id`: +1 outside (positive side), −1, or 0.
-// Zero when the point lies on the plane by construction (symbolic), when the exact predicate
-// says so, or — for input vertices only — when rounded input coordinates put it within the
-// rounding guard of the plane (a rotated body's coplanar faces).
-int side(const Context& ctx, const Point& pt, int id) {
-  if (ctx.floating) {
-    const Vec3 p(CGAL::to_double(pt.p.x()), CGAL::to_double(pt.p.y()), CGAL::to_double(pt.p.z()));
-    const double v = ctx.approx[id].value(p);
-    return v > ctx.epsilon ? 1 : (v < -ctx.epsilon ? -1 : 0);
-  }
-  if (std::binary_search(pt.on.begin(), pt.on.end(), id)) return 0;
-  const CGAL::Oriented_side s = ctx.planes[id].oriented_side(pt.p);
-  if (s == CGAL::ON_ORIENTED_BOUNDARY) return 0;
-  if (pt.origin >= 0 && std::abs(ctx.approx[id].value(pt.input)) <= ctx.guard) return 0;
-  return s == CGAL::ON_POSITIVE_SIDE ? 1 : -1;
-}
-
-void add_on(Point& pt, int id) {
-  auto it = std::lower_bound(pt.on.begin(), pt.on.end(), id);
-  if (it == pt.on.end() || *it != id) pt.on.insert(it, id);
-}
-
-// ---- From a body ---------------------------------------------------------------------------
-
-// Groups the body's faces into canonical planes (coincident within the rounding guard) and
-// builds the exact piece of the whole body.
-Piece piece_of(const Body& body, Context& ctx) {
-  ctx.guard = std::max(ctx.guard, kRoundingPlanarity * body.scale());
-  const auto& v = body.vertices();
-  std::vector<int> group(body.face_count(), -1), sign(body.face_count(), 1);
-  for (int f = 0; f < body.face_count(); ++f) {
-    const Plane outward = body.plane(f).flipped();
-    // A plane that has the face's support triangle within the guard turns from the face's
-    // normal by at most about 2·guard over the triangle's smallest height (4× for the face's
-    // Newell normal and rounding): only planes with such normals can match. O(F) candidates
-    // in all instead of O(F²) for bodies with many plane directions.
-    const auto& t = body.support(f);
-    const Vec3 &ta = v[t[0]], &tb = v[t[1]], &tc = v[t[2]];
-    const double longest = std::max({(tb - ta).norm(), (tc - tb).norm(), (ta - tc).norm()});
-    const double height = (tb - ta).cross(tc - ta).norm() / longest;
-    const double eps = 8 * ctx.guard / height + 1e-9;
-    for (int g : planes_near(ctx, outward.normal(), eps)) {
-      if (group[f] >= 0) break;
-      // A plane met before, from either side (pieces of merge_convex meet from both).
-      const double dot = ctx.approx[g].normal().dot(outward.normal());
-      if (std::abs(dot) < 0.5) continue;
-      bool same = true;
-      for (const auto& loop : body.faces()[f].loops)
-        for (int w : loop) same = same && std::abs(ctx.approx[g].value(v[w])) <= ctx.guard;
-      if (same) {
-        group[f] = static_cast<int>(g);
-        sign[f] = dot > 0 ? 1 : -1;
-      }
-    }
-    if (group[f] < 0) {
-      group[f] = static_cast<int>(ctx.planes.size());
-      const auto& s = body.support(f);
-      ctx.planes.emplace_back(P3(v[s[0]].x(), v[s[0]].y(), v[s[0]].z()),
-                              P3(v[s[1]].x(), v[s[1]].y(), v[s[1]].z()),
-                              P3(v[s[2]].x(), v[s[2]].y(), v[s[2]].z()));
-      ctx.approx.push_back(outward);
-    }
-  }
-  Piece piece;
-  piece.pts.resize(v.size());
-  for (size_t i = 0; i < v.size(); ++i) {
-    piece.pts[i].p = P3(v[i].x(), v[i].y(), v[i].z());
-    piece.pts[i].origin = static_cast<int>(i);
-    piece.pts[i].input = v[i];
-  }
-  for (int f = 0; f < body.face_count(); ++f)
-    for (const auto& loop : body.faces()[f].loops)
-      for (int w : loop) add_on(piece.pts[w], group[f]);
-  for (const Triangle& t : body.triangles()) piece.tris.push_back({t.v, group[t.face], sign[t.face]});
-  return piece;
-}
-
-// ---- Components --------------------------------------------------------------------------
-
-std::vector<Piece> components(const std::vector<Point>& pts, const std::vector<Tri>& tris) {
-  const int n = static_cast<int>(tris.size());
-  std::vector<int> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  };
-  std::unordered_map<std::uint64_t, int> first;  // undirected edge -> triangle
-  for (int t = 0; t < n; ++t)
-    for (int i = 0; i < 3; ++i) {
-      int a = tris[t].v[i], b = tris[t].v[(i + 1) % 3];
-      auto [it, inserted] = first.emplace(key(std::min(a, b), std::max(a, b)), t);
-      if (!inserted) {
-        int x = find(t), y = find(it->second);
-        if (x != y) parent[std::max(x, y)] = std::min(x, y);
-      }
-    }
-  std::map<int, int> index;  // root -> component (in order of first triangle)
-  std::vector<Piece> out;
-  std::vector<std::vector<int>> remap;
-  for (int t = 0; t < n; ++t) {
-    int r = find(t);
-    auto [it, inserted] = index.emplace(r, static_cast<int>(out.size()));
-    if (inserted) {
-      out.emplace_back();
-      remap.emplace_back(pts.size(), -1);
-    }
-    Piece& piece = out[it->second];
-    std::vector<int>& m = remap[it->second];
-    Tri tri = tris[t];
-    for (int& w : tri.v) {
-      if (m[w] < 0) {
-        m[w] = static_cast<int>(piece.pts.size());
-        piece.pts.push_back(pts[w]);
-      }
-      w = m[w];
-    }
-    piece.tris.push_back(tri);
-  }
-  return out;
-}
-
-// ---- Caps --------------------------------------------------------------------------------
-
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, EK>;
-using Fb0 = CGAL::Constrained_triangulation_face_base_2<EK>;
-using Fb = CGAL::Triangulation_face_base_with_info_2<int, EK, Fb0>;
-using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
-
-// Triangles (counter-clockwise around the plane's normal) filling the region of the plane
-// bounded by the given segments (point ids), by parity of constrained edges crossed.
-std::vector<std::array<int, 3>> cap_triangles(const Context& ctx, int plane,
-                                              const std::vector<Point>& pts,
-                                              const std::vector<std::pair<int, int>>& segments) {
-  const EK::Vector_3 n = ctx.planes[plane].orthogonal_vector();
-  const Vec3 approx(CGAL::to_double(n.x()), CGAL::to_double(n.y()), CGAL::to_double(n.z()));
-  int axis;
-  approx.cwiseAbs().maxCoeff(&axis);
-  int u = (axis + 1) % 3, w = (axis + 2) % 3;
-  if (CGAL::is_negative(n[axis])) std::swap(u, w);
-  Cdt cdt;
-  std::unordered_map<int, Cdt::Vertex_handle> handle;
-  auto vertex = [&](int id) {
-    auto it = handle.find(id);
-    if (it != handle.end()) return it->second;
-    Cdt::Vertex_handle h = cdt.insert(EK::Point_2(pts[id].p[u], pts[id].p[w]));
-    h->info() = id;
-    handle.emplace(id, h);
-    return h;
-  };
-  try {
-    for (const auto& [a, b] : segments) cdt.insert_constraint(vertex(a), vertex(b));
-  } catch (const Cdt::Intersection_of_constraints_exception&) {
-    throw std::logic_error("split: the cut's boundary crosses itself");
-  }
-  for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
-  std::list<Cdt::Face_handle> queue{cdt.infinite_face()};
-  cdt.infinite_face()->info() = 0;
-  while (!queue.empty()) {
-    Cdt::Face_handle f = queue.front();
-    queue.pop_front();
-    for (int i = 0; i < 3; ++i) {
-      Cdt::Face_handle g = f->neighbor(i);
-      if (g->info() != -1) continue;
-      g->info() = cdt.is_constrained({f, i}) ? 1 - f->info() : f->info();
-      queue.push_back(g);
-    }
-  }
-  std::vector<std::array<int, 3>> out;
-  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
-    if (f->info() == 1)
-      out.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
-  return out;
-}
-
-// ---- Split ---------------------------------------------------------------------------------
-
-struct Sides {
-  std::vector<Piece> below, above;
-  bool cut = false;  // false when the plane does not pass through the piece's interior
-};
-
-Sides split_piece(const Context& ctx, const Piece& in, int plane) {
-  Sides result;
-  const int n = static_cast<int>(in.pts.size());
-  std::vector<int> s(n);
-  bool any_below = false, any_above = false;
-  for (int i = 0; i < n; ++i) {
-    s[i] = side(ctx, in.pts[i], plane);
-    any_below |= s[i] < 0;
-    any_above |= s[i] > 0;
-  }
-  if (!any_below || !any_above) {
-    (any_above ? result.above : result.below).push_back(in);
-    return result;
-  }
-  result.cut = true;
-  std::vector<Point> pts = in.pts;
-  for (int i = 0; i < n; ++i)
-    if (s[i] == 0) add_on(pts[i], plane);
-  std::unordered_map<std::uint64_t, int> cut_point;  // undirected edge -> new point
-  auto crossing = [&](int a, int b) {
-    const std::uint64_t k = key(std::min(a, b), std::max(a, b));
-    auto it = cut_point.find(k);
-    if (it != cut_point.end()) return it->second;
-    const int lo = std::min(a, b), hi = std::max(a, b);  // same construction from both sides
-    Point q;
-    if (ctx.floating) {
-      auto d = [](const P3& p) {
-        return Vec3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
-      };
-      const Vec3 pa = d(pts[lo].p), pb = d(pts[hi].p);
-      const double va = ctx.approx[plane].value(pa), vb = ctx.approx[plane].value(pb);
-      const Vec3 x = pa + (va / (va - vb)) * (pb - pa);
-      q.p = P3(x.x(), x.y(), x.z());
-    } else {
-      auto hit = CGAL::intersection(EK::Segment_3(pts[lo].p, pts[hi].p), ctx.planes[plane]);
-      const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
-      if (!x) throw std::logic_error("split: an edge with ends on both sides misses the plane");
-      q.p = *x;
-    }
-    std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),
-                          pts[hi].on.end(), std::back_inserter(q.on));
-    add_on(q, plane);
-    const int id = static_cast<int>(pts.size());
-    pts.push_back(std::move(q));
-    cut_point.emplace(k, id);
-    return id;
-  };
-
-  std::vector<Tri> below, above;
-  const EK::Vector_3 normal = ctx.planes[plane].orthogonal_vector();
-  for (const Tri& t : in.tris) {
-    const int a = s[t.v[0]], b = s[t.v[1]], c = s[t.v[2]];
-    const int lo = std::min({a, b, c}), hi = std::max({a, b, c});
-    if (hi <= 0 && lo < 0) { below.push_back(t); continue; }
-    if (lo >= 0 && hi > 0) { above.push_back(t); continue; }
-    if (lo == 0 && hi == 0) {
-      // In the plane: with the solid below when the face looks the plane's way.
-      bool looks_up;
-      if (t.plane == plane) {
-        looks_up = t.sign > 0;
-      } else {
-        const EK::Vector_3 tn = CGAL::cross_product(pts[t.v[1]].p - pts[t.v[0]].p,
-                                                    pts[t.v[2]].p - pts[t.v[0]].p);
-        looks_up = CGAL::is_positive(tn * normal);
-      }
-      (looks_up ? below : above).push_back(t);
-      continue;
-    }
-    // Crossing: the parts on each side are convex polygons, fanned into triangles.
-    std::vector<int> down, up;
-    for (int i = 0; i < 3; ++i) {
-      const int p = t.v[i], q = t.v[(i + 1) % 3];
-      const int sp = s[p], sq = s[q];
-      if (sp <= 0) down.push_back(p);
-      if (sp >= 0) up.push_back(p);
-      if ((sp < 0 && sq > 0) || (sp > 0 && sq < 0)) {
-        const int x = crossing(p, q);
-        down.push_back(x);
-        up.push_back(x);
-      }
-    }
-    for (size_t k = 1; k + 1 < down.size(); ++k) below.push_back({{down[0], down[k], down[k + 1]}, t.plane, t.sign});
-    for (size_t k = 1; k + 1 < up.size(); ++k) above.push_back({{up[0], up[k], up[k + 1]}, t.plane, t.sign});
-  }
-
-  // Cap: the boundary of the part below lies in the plane; fill it.
-  std::unordered_set<std::uint64_t> directed;
-  for (const Tri& t : below)
-    for (int i = 0; i < 3; ++i) directed.insert(key(t.v[i], t.v[(i + 1) % 3]));
-  std::vector<std::pair<int, int>> boundary;
-  for (const Tri& t : below)
-    for (int i = 0; i < 3; ++i) {
-      const int a = t.v[i], b = t.v[(i + 1) % 3];
-      if (!directed.count(key(b, a))) boundary.emplace_back(a, b);
-    }
-  if (!boundary.empty()) {
-    for (const auto& tri : cap_triangles(ctx, plane, pts, boundary)) {
-      below.push_back({tri, plane, 1});
-      above.push_back({{tri[0], tri[2], tri[1]}, plane, -1});
-    }
-  }
-  result.below = components(pts, below);
-  result.above = components(pts, above);
-  return result;
-}
 
 // ---- Reflex edges and the choice of the cut ----------------------------------------------
 
@@ -420,7 +48,7 @@ std::vector<Reflex> reflex_edges(const Context& ctx, const Piece& piece) {
       const int a = t1.v[i], b = t1.v[(i + 1) % 3];
       if (a > b) continue;  // each undirected edge once
       auto it = owner.find(key(b, a));
-      if (it == owner.end()) throw std::logic_error("decompose: a piece is not closed");
+      HEDRA_ASSERT(it != owner.end(), "decompose: a piece is not closed");
       const Tri& t2 = piece.tris[it->second];
       if (t1.plane == t2.plane && t1.sign == t2.sign) continue;  // flat
       int apex = t2.v[0] + t2.v[1] + t2.v[2] - a - b;
@@ -458,25 +86,8 @@ int choose_cut(const Context& ctx, const Piece& piece, const std::vector<Reflex>
       best_crossed = crossed;
     }
   }
-  if (best_resolved <= 0) throw std::logic_error("decompose: no cut resolves a reflex edge");
+  HEDRA_ASSERT(best_resolved > 0, "decompose: no cut resolves a reflex edge");
   return best;
-}
-
-// ---- Back to bodies ----------------------------------------------------------------------
-
-Body body_of(const Piece& piece) {
-  PolygonSoup soup;
-  for (const Point& p : piece.pts)
-    soup.vertices.emplace_back(CGAL::to_double(p.p.x()), CGAL::to_double(p.p.y()),
-                               CGAL::to_double(p.p.z()));
-  std::vector<int> ids;
-  for (const Tri& t : piece.tris) {
-    soup.polygons.push_back({t.v[0], t.v[1], t.v[2]});
-    ids.push_back(2 * t.plane + (t.sign > 0 ? 0 : 1));
-  }
-  std::vector<Body> bodies = bodies_from_soup(soup, ids);
-  if (bodies.size() != 1) throw std::logic_error("decompose: a piece fell apart");
-  return bodies[0];
 }
 
 EK::FT exact_volume6(const Piece& piece) {
@@ -582,7 +193,7 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
           middle = i;
     }
     if (flat == tris.size()) break;
-    if (middle < 0) throw std::logic_error("decompose: a merged hull has a repeated point");
+    HEDRA_ASSERT(middle >= 0, "decompose: a merged hull has a repeated point");
     const std::array<int, 3> t = tris[flat];
     const int m = t[middle], p = t[(middle + 1) % 3], q = t[(middle + 2) % 3];
     size_t u = tris.size();
@@ -590,7 +201,7 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
     for (size_t k = 0; k < tris.size() && u == tris.size(); ++k)
       for (int i = 0; i < 3; ++i)
         if (tris[k][i] == q && tris[k][(i + 1) % 3] == p) u = k, apex = tris[k][(i + 2) % 3];
-    if (u == tris.size()) throw std::logic_error("decompose: a merged hull is not closed");
+    HEDRA_ASSERT(u != tris.size(), "decompose: a merged hull is not closed");
     tris[u] = {q, m, apex};
     tris.push_back({m, p, apex});
     tris.erase(tris.begin() + static_cast<std::ptrdiff_t>(flat));
@@ -613,7 +224,7 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
         candidates[t].push_back(id);
     std::sort(candidates[t].begin(), candidates[t].end());
     candidates[t].erase(std::unique(candidates[t].begin(), candidates[t].end()), candidates[t].end());
-    if (candidates[t].empty()) throw std::logic_error("decompose: a merged face lies on no face plane");
+    HEDRA_ASSERT(!candidates[t].empty(), "decompose: a merged face lies on no face plane");
     normal[t] = (d(pts[v[1]].p) - d(pts[v[0]].p)).cross(d(pts[v[2]].p) - d(pts[v[0]].p));
     const bool thin = normal[t].norm() <= 1e-6 * scale * scale;
     if (candidates[t].size() == 1) {
@@ -712,26 +323,6 @@ std::vector<Piece> merge_pieces(const Context& ctx, std::vector<Piece> pieces, i
 
 }  // namespace
 
-SplitResult split(const Body& body, const Plane& plane) {
-  if (plane.normal().norm() == 0 || !plane.coefficients.allFinite())
-    throw InvalidInput("split: the plane needs a finite, non-zero normal");
-  Context ctx;
-  Piece piece = piece_of(body, ctx);
-  // The cutting plane as one more canonical plane, oriented so that "above" (value > 0) is
-  // its positive side.
-  const Vec4& k = plane.coefficients;
-  ctx.planes.emplace_back(k[0], k[1], k[2], k[3]);
-  ctx.approx.push_back(plane.normalized());
-  const int id = static_cast<int>(ctx.planes.size()) - 1;
-  SplitResult result;
-  for (Piece& part : components(piece.pts, piece.tris)) {
-    Sides sides = split_piece(ctx, part, id);
-    for (const Piece& p : sides.below) result.below.push_back(body_of(p));
-    for (const Piece& p : sides.above) result.above.push_back(body_of(p));
-  }
-  return result;
-}
-
 namespace {
 
 Decomposition run(const Body& body, const DecomposeOptions& options, Context& ctx) {
@@ -754,27 +345,24 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     if (options.verify) out.exact_volume = CGAL::to_double(exact_volume6(whole) / 6);
     return out;
   }
-  tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   while (!open.empty()) {
     // One round: every open piece is either convex (done) or cut once. Pieces are handled
     // independently, in parallel; results are gathered in order, so the outcome does not
     // depend on the number of threads.
     std::vector<std::vector<Piece>> next(open.size());
     std::vector<char> convex(open.size(), 0);
-    arena.execute([&] {
-      tbb::parallel_for(size_t(0), open.size(), [&](size_t i) {
-        std::vector<Reflex> reflex = reflex_edges(ctx, open[i]);
-        if (reflex.empty()) {
-          convex[i] = 1;
-          return;
-        }
-        Sides sides = split_piece(ctx, open[i], choose_cut(ctx, open[i], reflex));
-        // Exactly, a plane through a reflex edge always has the piece on both sides; with an
-        // epsilon it may not, and the piece would come back unchanged for ever.
-        if (!sides.cut) throw std::logic_error("the plane of a reflex edge does not cut its piece");
-        for (Piece& p : sides.below) next[i].push_back(std::move(p));
-        for (Piece& p : sides.above) next[i].push_back(std::move(p));
-      });
+    parallel_for(open.size(), options.threads, [&](size_t i) {
+      std::vector<Reflex> reflex = reflex_edges(ctx, open[i]);
+      if (reflex.empty()) {
+        convex[i] = 1;
+        return;
+      }
+      Sides sides = split_piece(ctx, open[i], choose_cut(ctx, open[i], reflex));
+      // Exactly, a plane through a reflex edge always has the piece on both sides; with an
+      // epsilon it may not, and the piece would come back unchanged for ever.
+      HEDRA_ASSERT(sides.cut, "the plane of a reflex edge does not cut its piece");
+      for (Piece& p : sides.below) next[i].push_back(std::move(p));
+      for (Piece& p : sides.above) next[i].push_back(std::move(p));
     });
     std::vector<Piece> still_open;
     for (size_t i = 0; i < open.size(); ++i) {
@@ -794,6 +382,8 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
         !options.progress(static_cast<int>(done.size()), static_cast<int>(open.size())))
       throw DecompositionCancelled();
   }
+  for (const Piece& p : done)
+    HEDRA_EXPENSIVE_ASSERT(reflex_edges(ctx, p).empty(), "decompose: a finished piece is not convex");
   auto canonical = [&] {
     std::sort(done.begin(), done.end(), [](const Piece& a, const Piece& b) {
       return smallest_point(a) < smallest_point(b);
@@ -857,7 +447,6 @@ std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges) {
   for (const Piece& p : exact) out.push_back(body_of(p));
   return out;
 }
-
 
 namespace internal {
 

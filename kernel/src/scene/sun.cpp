@@ -152,4 +152,60 @@ Vec3 sunlight_direction(double latitude, double longitude, const UtcTime& time) 
   return -s.towards_sun;
 }
 
+// ---- Calendar ----
+
+namespace {
+
+// Days from 1970-01-01 to y-m-d (proleptic Gregorian; H. Hinnant's algorithm).
+int64_t days_from_civil(int64_t y, unsigned m, unsigned d) {
+  y -= m <= 2;
+  const int64_t era = (y >= 0 ? y : y - 399) / 400;
+  const unsigned yoe = static_cast<unsigned>(y - era * 400);
+  const unsigned doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+  const unsigned doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  return era * 146097 + static_cast<int64_t>(doe) - 719468;
+}
+
+void civil_from_days(int64_t z, int& y, int& m, int& d) {
+  z += 719468;
+  const int64_t era = (z >= 0 ? z : z - 146096) / 146097;
+  const unsigned doe = static_cast<unsigned>(z - era * 146097);
+  const unsigned yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+  const unsigned doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+  const unsigned mp = (5 * doy + 2) / 153;
+  d = static_cast<int>(doy - (153 * mp + 2) / 5 + 1);
+  m = static_cast<int>(mp < 10 ? mp + 3 : mp - 9);
+  y = static_cast<int>(static_cast<int64_t>(yoe) + era * 400 + (m <= 2));
+}
+
+double seconds_of(const UtcTime& t) {
+  return static_cast<double>(days_from_civil(t.year, static_cast<unsigned>(t.month),
+                                             static_cast<unsigned>(t.day))) *
+             86400.0 +
+         t.hour * 3600.0 + t.minute * 60.0 + t.second;
+}
+
+}  // namespace
+
+double minutes_between(const UtcTime& a, const UtcTime& b) {
+  return (seconds_of(b) - seconds_of(a)) / 60;
+}
+
+UtcTime add_minutes(const UtcTime& t, double minutes) {
+  const double s = seconds_of(t) + minutes * 60;
+  const double day = std::floor(s / 86400);
+  double rest = s - day * 86400;
+  UtcTime out;
+  civil_from_days(static_cast<int64_t>(day), out.year, out.month, out.day);
+  // Round to the millisecond so that steps of whole minutes stay whole.
+  rest = std::round(rest * 1000) / 1000;
+  if (rest >= 86400) rest = 86399.999;
+  out.hour = static_cast<int>(rest / 3600);
+  rest -= out.hour * 3600.0;
+  out.minute = static_cast<int>(rest / 60);
+  out.second = rest - out.minute * 60.0;
+  if (out.second < 0) out.second = 0;
+  return out;
+}
+
 }  // namespace hedra

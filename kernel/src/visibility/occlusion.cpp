@@ -1,5 +1,7 @@
 #include "hedra/visibility/occlusion.h"
 
+#include <cmath>
+
 #include "hedra/core/error.h"
 
 namespace hedra {
@@ -41,64 +43,106 @@ Viewpoint Viewpoint::of(const Light& light) {
 ExactPlane exact_face_plane(const Body& body, int face) {
   const auto& s = body.support(face);
   const auto& v = body.vertices();
-  ExactPlane plane = ExactPlane::through(v[s[0]], v[s[1]], v[s[2]]);
-  // Orient it as the body's plane: the support triple's orientation rule lives in Body, so
-  // compare at a vertex strictly off the plane (a closed body has one).
-  for (const Vec3& p : v) {
-    const Sign want = body.face_side(face, p);
-    if (want == Sign::Zero) continue;
-    return side_of_plane(plane, p) == want ? plane : plane.flipped();
-  }
-  throw InvalidInput("exact_face_plane: the body is flat");
+  // face_side(f, p) = −orient3d(v[s0], v[s1], v[s2], p) = f(p) of ExactPlane::through.
+  return ExactPlane::through(v[static_cast<size_t>(s[0])], v[static_cast<size_t>(s[1])],
+                             v[static_cast<size_t>(s[2])]);
 }
 
-Facing facing(const Body& body, int face, const Viewpoint& view) {
-  Sign s;
-  if (view.at_infinity) {
-    s = direction_sign(exact_face_plane(body, face), view.direction);
-    // Moving along d into the inner side: the ray enters through this face.
-    return s == Sign::Positive ? Facing::Front : (s == Sign::Zero ? Facing::EdgeOn : Facing::Back);
+namespace {
+
+Facing facing_from_inner(Sign view_side_inner) {
+  return view_side_inner == Sign::Negative
+             ? Facing::Front
+             : (view_side_inner == Sign::Zero ? Facing::EdgeOn : Facing::Back);
+}
+
+// c = a + d when the sum is exact in every coordinate (TwoSum's error term is zero).
+bool exact_sum(const Vec3& a, const Vec3& d, Vec3& c) {
+  for (int i = 0; i < 3; ++i) {
+    const double s = a[i] + d[i], bv = s - a[i];
+    if ((a[i] - (s - bv)) + (d[i] - bv) != 0 || !std::isfinite(s)) return false;
+    c[i] = s;
   }
-  s = body.face_side(face, view.point);
-  return s == Sign::Negative ? Facing::Front : (s == Sign::Zero ? Facing::EdgeOn : Facing::Back);
+  return true;
+}
+
+// The plane through silhouette edge ab and the viewpoint (parallel to its direction), or
+// nullopt when the viewpoint lies on the edge's line (the front face's plane bounds there).
+std::optional<ExactPlane> silhouette_plane(const Vec3& a, const Vec3& b, const Viewpoint& view) {
+  try {
+    Vec3 c;
+    if (!view.at_infinity) return ExactPlane::through(a, b, view.point);
+    // The same plane as through_direction (c − a = d exactly), by the three-point form.
+    if (exact_sum(a, view.direction, c)) return ExactPlane::through(a, b, c);
+    return ExactPlane::through_direction(a, b, view.direction);
+  } catch (const InvalidInput&) {
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
+Facing facing(const Body& body, int face, const Viewpoint& view) {
+  const auto& s = body.support(face);
+  const auto& v = body.vertices();
+  const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
+             &c = v[static_cast<size_t>(s[2])];
+  // orient3d of the support triple is Positive on the outer side (Body::face_side = −it).
+  if (view.at_infinity) {
+    // Moving along d into the inner side: the ray enters through this face.
+    return facing_from_inner(orient_direction(a, b, c, view.direction));
+  }
+  return facing_from_inner(-orient3d(a, b, c, view.point));
+}
+
+Facing facing(const ExactPlane& face_plane, const Viewpoint& view) {
+  if (view.at_infinity) return facing_from_inner(-direction_sign(face_plane, view.direction));
+  return facing_from_inner(side_of_plane(face_plane, view.point));
 }
 
 OcclusionVolume occlusion_volume(const Body& body, const Viewpoint& view) {
+  std::vector<Facing> f(static_cast<size_t>(body.face_count()));
+  for (int i = 0; i < body.face_count(); ++i) f[static_cast<size_t>(i)] = facing(body, i, view);
+  return occlusion_volume(body, f, view);
+}
+
+OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facing,
+                                 const Viewpoint& view, std::span<const ExactPlane> face_planes) {
   OcclusionVolume out;
-  const int n = body.face_count();
-  std::vector<char> front(n, 0);
+  const auto& v = body.vertices();
   std::vector<ExactPlane> planes;
-  for (int f = 0; f < n; ++f) {
-    if (facing(body, f, view) != Facing::Front) continue;
-    front[f] = 1;
+  planes.reserve(static_cast<size_t>(body.face_count() + body.edge_count()));
+  // Front faces: their planes, inner side Positive already.
+  for (int f = 0; f < body.face_count(); ++f) {
+    if (facing[static_cast<size_t>(f)] != Facing::Front) continue;
     out.front_faces.push_back(f);
-    planes.push_back(exact_face_plane(body, f));
+    planes.push_back(face_planes.empty() ? exact_face_plane(body, f)
+                                         : face_planes[static_cast<size_t>(f)]);
   }
   if (out.front_faces.empty()) return out;
-  const auto& v = body.vertices();
+  // Silhouette edges: between a front face and one that is not.
   for (const Edge& e : body.edges()) {
-    if (front[e.left_face] == front[e.right_face]) continue;
-    out.silhouette.emplace_back(e.v0, e.v1);
-    const Vec3 &a = v[e.v0], &b = v[e.v1];
-    // A viewpoint on the edge's line sees the body edge-on there: that plane is degenerate
-    // and the front face's own plane already bounds the volume.
-    ExactPlane plane;
-    try {
-      plane = view.at_infinity ? ExactPlane::through_direction(a, b, view.direction)
-                               : ExactPlane::through(a, b, view.point);
-    } catch (const InvalidInput&) {
+    if ((facing[static_cast<size_t>(e.left_face)] == Facing::Front) ==
+        (facing[static_cast<size_t>(e.right_face)] == Facing::Front))
       continue;
+    out.silhouette.emplace_back(e.v0, e.v1);
+    const std::optional<ExactPlane> plane =
+        silhouette_plane(v[static_cast<size_t>(e.v0)], v[static_cast<size_t>(e.v1)], view);
+    if (!plane) continue;
+    // The body lies on the inner side: orient by the vertex farthest from the plane in double
+    // (only the choice of vertex), whose exact sign the static filter then decides.
+    size_t far = 0;
+    double best = -1;
+    for (size_t i = 0; i < v.size(); ++i) {
+      const double d = std::abs(plane->value(v[i]));
+      if (d > best) best = d, far = i;
     }
-    // The body lies on the plane's inner side: orient it by a vertex strictly off it.
-    bool oriented = false;
-    for (const Vec3& p : v) {
-      const Sign s = side_of_plane(plane, p);
-      if (s == Sign::Zero) continue;
-      planes.push_back(s == Sign::Positive ? plane : plane.flipped());
-      oriented = true;
-      break;
-    }
-    if (!oriented) throw InvalidInput("occlusion_volume: the body is flat");
+    Sign side = side_of_plane(*plane, v[far]);
+    if (side == Sign::Zero)  // only for data at the limits of double: scan exactly
+      for (const Vec3& p : v)
+        if ((side = side_of_plane(*plane, p)) != Sign::Zero) break;
+    if (side == Sign::Zero) throw InvalidInput("occlusion volume: the body is flat");
+    planes.push_back(side == Sign::Positive ? *plane : plane->flipped());
   }
   out.clipper = ConvexClipper::from_planes(std::move(planes));
   return out;

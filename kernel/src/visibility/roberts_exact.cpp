@@ -1,6 +1,6 @@
-// The exact parts of Roberts hidden-line removal (kernel/detail/roberts_exact.h): the course's
-// (t, a) oracle, the rational path for segments lying in an edge-on internal cut plane, and
-// junction lines. Numbers are CGAL::Mpzf (exact sums and products of doubles); points are
+// The exact parts of Roberts hidden-line removal (roberts_exact.h): the course's (t, a) oracle
+// (docs/algorithms.md §6.2), the rational path for segments lying in an edge-on internal cut plane,
+// and junction lines. Numbers are CGAL::Mpzf (exact sums and products of doubles); points are
 // homogeneous (X, W) with W > 0, so a crossing of an input edge with an input plane is exact
 // without a division, and parameters are fractions compared by cross-multiplication.
 #include "visibility/roberts_exact.h"
@@ -108,10 +108,11 @@ struct Interval {
   Frac lo, hi;
 };
 
-// The open part of segment P1P2 strictly inside the convex set of `planes` (Cyrus–Beck with
-// every value exact). Values: v1 = F1/W1, v2 = F2/W2; a crossing at t = F1·W2 / (F1·W2 − F2·W1).
-std::optional<Interval> clip_open(std::span<const HPlane> planes, const HPoint& p1,
-                                  const HPoint& p2) {
+// The open part of segment P1P2 strictly inside the convex set of `planes`: clip_segment_open
+// (hedra/clip/cyrus_beck.h) for end points that are exact homogeneous points (junction ends,
+// facet crossings) rather than doubles, so every value here is exact. Values: v1 = F1/W1, v2 = F2/W2; a crossing at t = F1·W2 / (F1·W2 − F2·W1).
+std::optional<Interval> clip_open_exact(std::span<const HPlane> planes, const HPoint& p1,
+                                        const HPoint& p2) {
   Frac lo{Q(0), Q(1)}, hi{Q(1), Q(1)};
   for (const HPlane& f : planes) {
     const Q f1 = eval(f, p1), f2 = eval(f, p2);
@@ -233,7 +234,7 @@ std::vector<Interval> visible_fracs(const HPoint& p1, const HPoint& p2, const Ca
       part = hidden_brute_force(hplanes(*o->faces), view, p1, p2);
     } else {
       if (!o->volume) continue;
-      part = clip_open(hplanes(o->volume->planes()), p1, p2);
+      part = clip_open_exact(hplanes(o->volume->planes()), p1, p2);
     }
     if (part) hidden.push_back(std::move(*part));
   }
@@ -324,8 +325,8 @@ std::vector<Span> face_spans(const Body& body, int face, const ExactPlane& g, co
       }
     }
   }
-  if (crossings.size() % 2 != 0)
-    throw std::logic_error("junction lines: odd number of crossings of a face boundary");
+  HEDRA_ASSERT(crossings.size() % 2 == 0,
+               "junction lines: odd number of crossings of a face boundary");
   std::sort(crossings.begin(), crossings.end(),
             [axis](const HPoint& a, const HPoint& b) { return cmp_along(a, b, axis) < 0; });
   std::vector<Span> spans;
@@ -356,25 +357,6 @@ Eigen::AlignedBox3d face_box(const Body& body, int face) {
 }
 
 }  // namespace
-
-Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  std::array<Q, 3> u, v, w;
-  for (int i = 0; i < 3; ++i) {
-    u[i] = Q(b[i]) - Q(a[i]);
-    v[i] = Q(c[i]) - Q(a[i]);
-    w[i] = Q(d[i]);
-  }
-  const Q det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                u[2] * (v[0] * w[1] - v[1] * w[0]);
-  return static_cast<Sign>(sgn(det));
-}
-
-bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d) {
-  const Q e[3] = {Q(b.x()) - Q(a.x()), Q(b.y()) - Q(a.y()), Q(b.z()) - Q(a.z())};
-  const Q f[3] = {Q(d.x()), Q(d.y()), Q(d.z())};
-  return sgn(e[1] * f[2] - e[2] * f[1]) == 0 && sgn(e[2] * f[0] - e[0] * f[2]) == 0 &&
-         sgn(e[0] * f[1] - e[1] * f[0]) == 0;
-}
 
 std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
     std::span<const ExactPlane> planes, const Viewpoint& view, const Vec3& p1, const Vec3& p2) {

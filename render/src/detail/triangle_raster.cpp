@@ -3,8 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
+#include "hedra/core/parallel.h"
 
 namespace hedra::detail {
 
@@ -16,8 +15,8 @@ TriangleRaster prepare_triangles(const SceneGeometry& geometry, const RasterView
   // Homogeneous raster coordinates of every vertex, once: shared vertices of neighbouring
   // triangles are then bit-identical, which the coverage rule needs.
   std::vector<Eigen::Vector3d> h(geometry.positions.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, h.size(), 4096), [&](const auto& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) h[i] = view.homogeneous(geometry.positions[i]);
+  parallel_blocks(h.size(), 0, 4096, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) h[i] = view.homogeneous(geometry.positions[i]);
   });
   r.key_plane.assign(geometry.faces.size(), Eigen::Vector3d::Zero());
   // Guard band: polygons are clipped to the image plus one image size on each side, which

@@ -3,7 +3,7 @@
 // hedra parses and writes these formats itself rather than through OpenMesh: OpenMesh 9's
 // readers and writers store coordinates as 32-bit floats, which would break exact round trips
 // and exact planarity of imported faces, and they do not report where a file is malformed.
-// OpenMesh reads every file hedra writes (checked in tests/mesh_io_test.cpp).
+// OpenMesh reads every file hedra writes (checked in tests/io/mesh_io_test.cpp).
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-// Cyrus–Beck clipping of segments against convex clippers (algorithms.md §4), exterior
+// Cyrus–Beck clipping of segments against convex clippers (docs/algorithms.md §4), exterior
 // clipping (erasing), and clipping against a non-convex clipper given by convex pieces.
 //
 // Exactness. Every decision is exact: the side of each end point with respect to each plane
@@ -65,10 +65,10 @@ inline Crossing crossing_from_values(double w, double e, double bound_w, double 
 /// Cost O(1).
 Crossing crossing(const ExactPlane& f, const Vec3& p1, const Vec3& p2);
 
-/// Cyrus–Beck (algorithms.md §4): the part of segment p1p2 inside the closed convex clipper, or
-/// nullopt. The course's step 5 with exact signs: Wn = f(P1), Dn = f(P2) − f(P1), so "Dn = 0,
-/// Wn < 0" and "t > 1" / "t < 0" are "both ends strictly outside one plane"; a plane that both
-/// ends are on or inside does not bound; the others give t = −Wn/Dn, lower bounds where
+/// Cyrus–Beck (docs/algorithms.md §4): the part of segment p1p2 inside the closed convex clipper,
+/// or nullopt. The course's step 5 with exact signs: Wn = f(P1), Dn = f(P2) − f(P1), so
+/// "Dn = 0, Wn < 0" and "t > 1" / "t < 0" are "both ends strictly outside one plane"; a plane that
+/// both ends are on or inside does not bound; the others give t = −Wn/Dn, lower bounds where
 /// Dn > 0 and upper bounds where Dn < 0, of which the exact maximum and minimum count.
 /// Degenerate inputs are exact: a point segment (inside or not), a segment parallel to a face
 /// (inside, outside, or in its plane: kept, since the clipper is closed), through a vertex or
@@ -102,6 +102,39 @@ std::vector<ClipPart> clip_segment_outside(std::span<const ConvexClipper> pieces
 /// sign of a.t_exact − b.t_exact. Cost O(1).
 Sign compare_ends(std::span<const ConvexClipper> pieces, const ClipEnd& a, const ClipEnd& b,
                   const Vec3& p1, const Vec3& p2);
+
+// ---- The open clipper (occlusion volumes: a point on the boundary is not hidden) ----
+
+/// An end of a part of segment p1p2 given by the plane it lies on: an exact end of the segment
+/// (plane == nullptr, t exactly 0 or 1) or the crossing of *plane, t rounded with its error
+/// bound (crossing()). The plane belongs to the clipper the part came from.
+struct SegmentEnd {
+  double t = 0;
+  double error = 0;
+  const ExactPlane* plane = nullptr;
+};
+
+/// A part [lo, hi] of a segment, lo before hi (exactly).
+struct SegmentPart {
+  SegmentEnd lo, hi;
+};
+
+/// Exact order of two ends of parts of the same segment p1p2: the sign of a.t − b.t for the
+/// exact parameters. A crossing end lies strictly inside (0, 1). Cost O(1), exact arithmetic
+/// only when the rounded parameters are within their error bounds of each other.
+Sign compare_ends(const SegmentEnd& a, const SegmentEnd& b, const Vec3& p1, const Vec3& p2);
+
+/// Cyrus–Beck for the open clipper: the part of segment p1p2 strictly inside every plane
+/// (an open interval of t), or nullopt. A plane that both ends are on or outside empties it (a
+/// segment in a bounding plane is not inside); a plane with one end on it and the other inside
+/// bounds at that exact end. No check of the coordinates (callers pass body vertices).
+/// Cost O(planes), exact arithmetic only for near-degenerate configurations.
+std::optional<SegmentPart> clip_segment_open(const ConvexClipper& clipper, const Vec3& p1,
+                                             const Vec3& p2);
+
+/// Sorts parts of one segment by their start and joins those that overlap or touch, exactly.
+/// In place. Cost O(k log k) comparisons.
+void merge_parts(std::vector<SegmentPart>& parts, const Vec3& p1, const Vec3& p2);
 
 /// P(t) = P1 + (P2 − P1)·t in double, exactly P1 at t = 0 and P2 at t = 1.
 Vec3 point_at(const Vec3& p1, const Vec3& p2, double t);

@@ -1,5 +1,5 @@
 // Clipping planar polygons against a convex volume: a Sutherland–Hodgman pipeline of planes
-// (algorithms.md §3), the operation cast shadows are made of.
+// (docs/algorithms.md §3.5), the operation cast shadows are made of.
 //
 // Representation. A polygon is a ring of 3D points (Polygon3), planar, simple, either
 // orientation. The result of clipping is a list of such rings with the input's orientation:
@@ -15,7 +15,7 @@
 // along a plane are joined into pieces depends on the order of the crossing points along the
 // cutting line, which is also decided exactly (compare_crossings_along on the exact crossing
 // points). Only new vertices (edge–plane intersections) are rounded, with the bound of
-// kernel/cyrus_beck.h on their parameter.
+// hedra/clip/cyrus_beck.h on their parameter.
 #pragma once
 
 #include <vector>
@@ -41,6 +41,23 @@ std::vector<Polygon3> clip_polygon(const Polygon3& polygon, const ConvexClipper&
 /// pieces. Empty when no point is left; zero area when the polygon only touches the clipper.
 /// \throw InvalidInput as clip_polygon. Cost O(planes · n).
 Polygon3 sutherland_hodgman(const Polygon3& polygon, const ConvexClipper& clipper);
+
+/// Work space of clip_convex_polygon_open, reused across calls (one per thread).
+struct PolygonClipScratch {
+  Polygon3 ring;
+  std::vector<Sign> side;
+};
+
+/// A convex polygon ∩ the open clipper (the interior of an occlusion volume), by
+/// Sutherland–Hodgman with exact sides: true and the clipped convex polygon in `out`, or false
+/// when nothing of positive area is strictly inside (a polygon with no vertex strictly inside a
+/// plane, one lying in a plane included). Crossing points are canonical: computed from the
+/// edge's ends in lexicographic order, and on a plane perpendicular to a coordinate axis given
+/// that plane's coordinate exactly, so that polygons sharing an edge (convex parts of one face)
+/// or cut by one such plane (walls, floors, decomposition cuts) get the very same points.
+/// \pre a convex planar polygon with finite coordinates. Cost O(planes · n).
+bool clip_convex_polygon_open(const Polygon3& polygon, const ConvexClipper& clipper,
+                              Polygon3& out, PolygonClipScratch& scratch);
 
 /// Area of a planar polygon: half the length of Newell's vector. Cost O(n).
 double polygon_area(const Polygon3& polygon);

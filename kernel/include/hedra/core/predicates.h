@@ -1,7 +1,9 @@
 // The one exact predicate layer. Every geometric decision in hedra (side of plane,
 // orientation, convexity, inside/outside) is a sign computed here, exactly for the double
-// inputs given: CGAL's filtered predicates (interval arithmetic first, exact multiprecision
-// only when the interval cannot decide). Constructions (intersection points, areas, t
+// inputs given. Each predicate is filtered: a static floating-point filter with a proven error
+// bound first (Shewchuk's for the 3×3 determinants, ExactPlane's own bound for planes), then
+// interval arithmetic, then exact multiprecision (CGAL's filtered predicates, CGAL::Mpzf) only
+// when neither can decide. Constructions (intersection points, areas, t
 // values) are separate and live with the algorithms that need them.
 #pragma once
 
@@ -26,6 +28,13 @@ inline Sign operator-(Sign s) { return static_cast<Sign>(-static_cast<int>(s)); 
 /// (hedra's convention), Positive means "outside the face plane". Cost O(1).
 Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// orient3d with the direction d in place of d − a: the exact sign of det[b − a, c − a, d]
+/// (which side of plane (a, b, c) moving along d goes to). Cost O(1).
+Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+/// True when d is parallel to b − a, exactly (d ≠ 0). Cost O(1).
+bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d);
+
 /// Sign of the 2D orientation of (a, b, c): Positive for a left turn. Cost O(1).
 Sign orient2d(const Vec2& a, const Vec2& b, const Vec2& c);
 
@@ -48,7 +57,7 @@ SegmentTriangle segment_triangle(const Vec3& p, const Vec3& q, const Vec3& a, co
 /// The triangle must not be degenerate. Cost O(1).
 bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
-// ---- Oriented planes for clipping (kernel/cyrus_beck.h, batch_clip.h, polygon_clip.h) ----
+// ---- Oriented planes for clipping (hedra/clip/cyrus_beck.h, batch_clip.h, polygon_clip.h) ----
 
 /// An oriented plane as an exact affine function f(p), Positive on its inner side, together
 /// with a double form n·p + k whose evaluation error is bounded, so that callers can decide a
@@ -117,6 +126,15 @@ class ExactPlane {
 /// Exact sign of f(p): Positive = inner side. A static filter on value() and error_bound()
 /// decides almost always; interval arithmetic, then CGAL::Mpzf, decide the rest. Cost O(1).
 Sign side_of_plane(const ExactPlane& f, const Vec3& p);
+
+/// side_of_plane(f, p) for a caller that already has value = f.value(p) and
+/// bound = f.error_bound(max |p_i|) (clippers need the value for the crossing too): the
+/// static filter on them, the exact sign when it cannot decide. Cost O(1).
+inline Sign side_of_plane(const ExactPlane& f, const Vec3& p, double value, double bound) {
+  if (value > bound) return Sign::Positive;
+  if (value < -bound) return Sign::Negative;
+  return side_of_plane(f, p);
+}
 
 /// Exact sign of n·d, n the exact normal of f (pointing to the inner side): Positive when
 /// moving along d goes into the inner side. Cost O(1).

@@ -13,8 +13,8 @@ namespace hedra {
 
 using Polygon2 = std::vector<Vec2>;
 
-/// Axis-aligned box. Faces in the course's order: x = min, x = max, y = min, y = max,
-/// z = min, z = max, so box({−1,−1,−1}, {1,1,1}).matrix() is the course's matrix.
+/// Axis-aligned box (docs/algorithms.md §1). Faces in the course's order: x = min, x = max, y =
+/// min, y = max, z = min, z = max, so box({−1,−1,−1}, {1,1,1}).matrix() is the course's matrix.
 /// \throw InvalidInput unless min < max in every coordinate.
 Body box(const Vec3& min, const Vec3& max);
 

@@ -1,4 +1,4 @@
-// Exact convex decomposition by plane splitting (algorithms.md §5).
+// Exact convex decomposition by plane splitting (docs/algorithms.md §5.3).
 #pragma once
 
 #include <functional>
@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "hedra/core/body.h"
+#include "hedra/core/error.h"  // DecompositionCancelled, DecompositionFailed
 
 namespace hedra {
 
@@ -37,11 +38,6 @@ struct Decomposition {
   int degenerate_pieces = 0;
 };
 
-class DecompositionCancelled : public std::runtime_error {
- public:
-  DecompositionCancelled() : std::runtime_error("decomposition cancelled") {}
-};
-
 /// Joins adjacent convex bodies whose union is convex, greedily, until no pair is left: the
 /// merge pass of DecomposeOptions::merge, for pieces from any method (TetGen's tetrahedra,
 /// CGAL's pieces). Two pieces with faces on one plane from opposite sides join iff each one's
@@ -50,13 +46,6 @@ class DecompositionCancelled : public std::runtime_error {
 /// convex (rounded pieces of another method) come first, unchanged; then the merged ones in
 /// canonical order. Cost O(P·F·V) per pass.
 std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges = nullptr);
-
-/// The floating-point variant failed (a crack, a broken piece, a loop that found no cut).
-class DecompositionFailed : public std::runtime_error {
- public:
-  explicit DecompositionFailed(const std::string& why)
-      : std::runtime_error("floating-point decomposition failed: " + why) {}
-};
 
 /// The course's method, exactly: while a piece has a reflex edge, cut it by the plane of a face
 /// at such an edge (the one lying on the most reflex edges, then crossing the fewest faces,

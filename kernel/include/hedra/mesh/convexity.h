@@ -1,4 +1,4 @@
-// Convexity test (algorithms.md §5): is a body convex with respect to each of its faces?
+// Convexity test (docs/algorithms.md §5.1): is a body convex with respect to each of its faces?
 #pragma once
 
 #include <vector>
@@ -37,6 +37,7 @@ struct ConvexityReport {
 /// convexity()), so the answer is always exact.
 /// Cost O(V + E) when certified; O(V log V + Σ hull degrees) in the fallback, plus O(V) per
 /// face with a rounded vertex of its own outside its plane.
+/// The one convexity test of hedra's visibility passes (hidden lines, shadows).
 bool is_convex(const Body& body);
 
 /// What the O(V + E) certificate of is_convex() alone settles.

@@ -30,11 +30,16 @@ struct SunPosition {
 
 /// The NOAA solar position algorithm (the NOAA Global Monitoring Laboratory's solar
 /// calculator spreadsheet, after Meeus, "Astronomical Algorithms"), with NOAA's refraction
-/// correction. Valid for 1901–2099; tests/sun_test.cpp checks it against NREL's SPA reference
+/// correction. Valid for 1901–2099; tests/scene/sun_test.cpp checks it against NREL's SPA reference
 /// example (Reda & Andreas 2004) to 0.02° and against the solstice/equinox declinations.
 /// latitude in [−90, 90] (north positive), longitude in [−180, 180] (east positive).
 /// \throw InvalidInput for latitudes/longitudes out of range or non-finite.
 SunPosition sun_position(double latitude_deg, double longitude_deg, const UtcTime& time);
+
+/// Minutes from a to b (negative when b is earlier). Proleptic Gregorian calendar.
+double minutes_between(const UtcTime& a, const UtcTime& b);
+/// t plus the given minutes (may cross days, months and years), rounded to the millisecond.
+UtcTime add_minutes(const UtcTime& t, double minutes);
 
 /// Direction the sunlight travels (−towards_sun).
 /// \throw InvalidInput "the sun is below the horizon at … (elevation −12.3°)" at night.

@@ -1,9 +1,10 @@
 // Occlusion volumes: the region a convex piece hides from a viewpoint (the eye or a light).
-// One clipping core serves both hidden lines (kernel/roberts) and cast shadows
-// (kernel/shadows): design.md, "Architecture".
+// One clipping core serves both hidden lines (hedra/visibility/roberts.h) and cast shadows
+// (hedra/visibility/shadows.h): docs/design.md, "Data flow"; docs/algorithms.md §6.4.
 #pragma once
 
 #include <optional>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -38,8 +39,13 @@ struct Viewpoint {
 /// the face, n·d > 0 with n the inner normal), Back when strictly on the inner side, EdgeOn
 /// when in the plane (parallel to it). Equals the sign of the course's E·V with E the
 /// viewer vector (Front ⇔ E·V > 0). Cost O(1).
+/// Decided on the face's support triple (orient3d, orient_direction). Cost O(1).
 enum class Facing { Front, EdgeOn, Back };
 Facing facing(const Body& body, int face, const Viewpoint& view);
+
+/// facing() on a face plane already built (exact_face_plane: inner side Positive), for callers
+/// that cache the planes of many faces. Cost O(1).
+Facing facing(const ExactPlane& face_plane, const Viewpoint& view);
 
 /// The open region a convex body B hides from a viewpoint: the points X such that the
 /// segment (or ray, for a direction) from the viewpoint to X meets B's interior before X.
@@ -55,15 +61,27 @@ struct OcclusionVolume {
   std::vector<std::pair<int, int>> silhouette;  // vertex ids (a, b) of silhouette edges
 };
 
-/// The occlusion volume of a convex body from a viewpoint. Cost O(F + E).
+/// The occlusion volume of a convex body from a viewpoint. Planes in a fixed order: the front
+/// faces' planes (exact_face_plane) in face order, then one plane per silhouette edge in edge
+/// order, oriented with the body on its inner side. Cost O(F + E·V) (orienting each silhouette
+/// plane reads the vertices in double; the exact sign of the farthest one decides).
 /// \pre body is convex (a piece of a decomposition, or a convex input).
+/// \throw InvalidInput if the body is flat.
 OcclusionVolume occlusion_volume(const Body& convex_body, const Viewpoint& view);
+
+/// The same volume from facings already decided (facing(body, f, view) for every face f) and,
+/// when not empty, the faces' planes already built (exact_face_plane(body, f) for every f):
+/// for callers that keep them per body or per piece (hidden lines, shadows). Identical planes.
+OcclusionVolume occlusion_volume(const Body& convex_body, std::span<const Facing> facing,
+                                 const Viewpoint& view,
+                                 std::span<const ExactPlane> face_planes = {});
 
 /// Exact: p lies strictly inside the occlusion volume (hidden). Cost O(planes).
 bool hides(const OcclusionVolume& volume, const Vec3& p);
 
-/// The face's plane as an exact plane through its support triple, inner side Positive
-/// (side_of_plane agrees with Body::face_side). Cost O(1).
+/// The face's plane as an exact plane through its support triple, inner side Positive:
+/// ExactPlane::through's f(p) = −orient3d(a, b, c, p) is Body::face_side's own rule, so
+/// side_of_plane agrees with Body::face_side. Cost O(1).
 ExactPlane exact_face_plane(const Body& body, int face);
 
 }  // namespace hedra

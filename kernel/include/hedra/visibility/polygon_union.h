@@ -45,23 +45,11 @@ struct UnionResult {
 /// \pre every piece convex and counter-clockwise. Cost as above.
 UnionResult unite_convex(const std::vector<Ring2>& pieces, bool want_polygons);
 
-// ---- Exact references and general operations (CGAL's exact 2D Boolean operations,
-// Epeck; implemented in polygon_set_cgal.cpp). Slower; used where generality matters more than
-// speed (differences, coverage counts, the chaining fallback) and as test oracles. ----
-
-/// Exact union of simple polygons (either orientation). Cost O((n + k) log n) for k crossings.
-UnionResult cgal_union(const std::vector<Ring2>& polygons, bool want_polygons);
-
-/// Exact (∪ a) \ (∪ b) for two sets of simple polygons (either orientation, possibly
-/// overlapping), with its exact area.
-UnionResult cgal_difference(const std::vector<Ring2>& a, const std::vector<Ring2>& b);
-
-/// Given L sets, each the union of its simple polygons, the regions covered by exactly k of
-/// them for k = 1 … L: result[k − 1], with exact areas.
-std::vector<UnionResult> cgal_coverage_levels(const std::vector<std::vector<Ring2>>& sets);
-
 /// Area of a polygon with holes (double shoelace, relative to the first vertex).
 double polygon_area(const PolygonWithHoles2& polygon);
 double ring_area(const Ring2& ring);
 
 }  // namespace hedra
+
+// The exact general operations (cgal_union, cgal_difference, cgal_coverage_levels).
+#include "hedra/visibility/polygon_set.h"

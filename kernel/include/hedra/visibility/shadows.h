@@ -1,15 +1,16 @@
-// Shadows (algorithms.md §7): self shadows, visible shadows and exact cast-shadow polygons for
+// Shadows (docs/algorithms.md §7): self shadows, visible shadows and exact cast-shadow polygons for
 // point lights, spot lights, directional lights and the sun, and sun studies over a day.
 //
-// Method (design.md, "Architecture"). A point X of a face is in the cast shadow of a light
+// Method (docs/design.md, "Data flow"). A point X of a face is in the cast shadow of a light
 // when the segment (a ray, for a light at infinity) from the light to X meets the interior of
 // another convex piece before X, that is when X lies strictly inside the piece's occlusion
-// volume as seen from the light (kernel/occlusion.h); the boundary of a volume is lit. The cast
-// shadow on a face is therefore the face polygon clipped against the occlusion volumes of every
-// other convex piece, united: each clip is exact in its decisions (kernel/predicates.h), the
-// union of the clipped convex pieces is computed in the face's plane with exact 2D decisions
-// (kernel/polygon_union.h). Non-convex bodies take part through their exact convex pieces
-// (kernel/decompose.h); convex bodies are never decomposed. A uniform grid over the light-space
+// volume as seen from the light (hedra/visibility/occlusion.h); the boundary of a volume is
+// lit. The cast shadow on a face is therefore the face polygon clipped against the occlusion
+// volumes of every other convex piece, united: each clip is exact in its decisions
+// (hedra/core/predicates.h), the union of the clipped convex pieces is computed in the face's
+// plane with exact 2D decisions (hedra/visibility/polygon_union.h). Non-convex bodies take part
+// through their exact convex pieces (hedra/decompose/decompose.h); convex bodies are never
+// decomposed. A uniform grid over the light-space
 // projections of the pieces (a bounding-cone test for lights at a finite distance) gives each
 // face only the casters whose shadow volumes can reach it.
 //
@@ -33,6 +34,8 @@
 #include "hedra/visibility/occlusion.h"
 #include "hedra/clip/polygon_clip.h"
 #include "hedra/scene/scene.h"
+#include "hedra/scene/sun.h"
+#include "hedra/visibility/sun_study.h"  // sun studies: declared apart, included here
 
 namespace hedra {
 
@@ -141,8 +144,9 @@ bool in_shadow(const Scene& scene, const Light& light, int body, int face, const
 /// Cost O(vertices).
 bool point_in_polygons(const std::vector<ShadowPolygon>& polygons, const Vec3& p);
 
-struct SunStudy;
-struct SunStudyOptions;
+namespace internal {
+struct ShadowSceneAccess;
+}
 
 /// A scene prepared for shadows: bodies split into convex pieces once, faces into convex
 /// parts once, reused for any number of lights (sun studies, animations). Holds a copy of
@@ -163,52 +167,7 @@ class ShadowScene {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
-  friend SunStudy sun_study(const Scene& scene, const SunStudyOptions& options);
-  friend bool in_shadow(const Scene& scene, const Light& light, int body, int face, const Vec3& p);
+  friend struct internal::ShadowSceneAccess;  // the shadow and sun-study internals
 };
-
-// ---- Sun studies ----
-
-struct SunStudyOptions {
-  double latitude = 0, longitude = 0;  // degrees, north and east positive
-  UtcTime start, end;                  // UTC, start <= end
-  double step_minutes = 60;            // > 0
-  /// Optional grid of sample points on one face: body name, face index, spacing (world units).
-  std::string grid_body;
-  int grid_face = -1;
-  double grid_spacing = 0;
-  int threads = 0;
-};
-
-/// One time step of a sun study.
-struct SunStep {
-  UtcTime time;
-  double elevation_deg = 0, azimuth_deg = 0;
-  bool sun_up = false;  // above the horizon; below it every face is unlit (fraction 0)
-  /// Lit fraction of every face (ShadowResult::first_face indexing): 0 for self-shadowed and
-  /// grazing faces and at night, 1 − shadow_area / area otherwise.
-  std::vector<double> lit_fraction;
-};
-
-struct SunStudy {
-  std::vector<SunStep> steps;
-  /// Hours of direct sun per face: the trapezoid rule over the steps' lit fractions.
-  std::vector<double> sun_hours;
-  std::vector<int> first_face;  // as ShadowResult::first_face
-  /// The optional grid: sample points (on the face, inside it) and their hours of direct sun
-  /// (each point lit or not at each step, decided exactly by in_shadow's test).
-  std::vector<Vec3> grid_points;
-  std::vector<double> grid_hours;
-};
-
-/// The sun over a day: shadows at start, start + step, …, and at end.
-/// \throw InvalidInput for a bad place, times out of order, a step <= 0, more than 10000
-///   steps, or a grid body/face that does not exist.
-SunStudy sun_study(const Scene& scene, const SunStudyOptions& options);
-
-/// Minutes from a to b (negative when b is earlier).
-double minutes_between(const UtcTime& a, const UtcTime& b);
-/// t plus the given minutes (may cross days, months and years).
-UtcTime add_minutes(const UtcTime& t, double minutes);
 
 }  // namespace hedra

@@ -1,6 +1,8 @@
 // Exact 2D Boolean operations on polygon sets through CGAL (Epeck), behind the thin adapter of
-// kernel/polygon_union.h. The only translation unit of hedra that instantiates CGAL's
+// hedra/visibility/polygon_set.h. The only translation unit of hedra that instantiates CGAL's
 // Boolean_set_operations_2 (it is slow to compile).
+#include "hedra/visibility/polygon_set.h"
+
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 #include <CGAL/Polygon_2.h>
@@ -8,8 +10,6 @@
 #include <CGAL/Polygon_with_holes_2.h>
 
 #include <iterator>
-
-#include "hedra/visibility/polygon_union.h"
 
 namespace hedra {
 namespace {

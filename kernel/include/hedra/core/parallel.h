@@ -1,0 +1,37 @@
+// The one parallel loop of hedra: every data-parallel pass (decomposition rounds, batch
+// clipping, hidden lines, shadows, rendering) runs through it, so that thread counts mean the
+// same everywhere and an absurd count can never reach the task scheduler. TBB stays private
+// (kernel/src/core/parallel.cpp).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+namespace hedra {
+
+/// The number of workers a requested count means: ≤ 0 → every hardware thread; otherwise
+/// the request clamped to [1, 4 × hardware threads]. Cost O(1).
+int bounded_threads(int requested);
+
+/// Calls f(begin, end) on disjoint blocks that cover [0, n), each of about `grain` indices or
+/// more. threads = 1: one block, on the calling thread; threads ≤ 0: every thread of the
+/// current scope (all, or the limit of an enclosing with_threads); k > 1: at most
+/// bounded_threads(k). Exceptions thrown by f propagate to the caller. Callers write each
+/// index's results to its own place, so results never depend on the thread count.
+void parallel_blocks(size_t n, int threads, size_t grain,
+                     const std::function<void(size_t begin, size_t end)>& f);
+
+/// f(i) for every i in [0, n), with the threads of parallel_blocks (blocks of one index).
+template <class F>
+void parallel_for(size_t n, int threads, F&& f) {
+  parallel_blocks(n, threads, 1, [&f](size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) f(i);
+  });
+}
+
+/// Runs f so that every parallel loop inside it with threads ≤ 0 uses at most
+/// bounded_threads(threads) workers (threads ≤ 0: no limit). For a pipeline of several loops
+/// and nested library calls under one thread option (the renderer).
+void with_threads(int threads, const std::function<void()>& f);
+
+}  // namespace hedra

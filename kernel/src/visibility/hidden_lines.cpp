@@ -1,0 +1,404 @@
+// Hidden lines, the visibility pass (hedra/visibility/roberts.h): stage 0 (facing, convex
+// pieces, occlusion volumes, the picture grid) and stages 1–2 (each edge against its
+// candidate occluders). Junction lines and coincident edges: junction_lines.cpp.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "hedra/core/error.h"
+#include "hedra/core/parallel.h"
+#include "hedra/core/tolerance.h"
+#include "hedra/decompose/decompose.h"
+#include "hedra/mesh/convexity.h"
+#include "visibility/roberts_internal.h"
+
+namespace hedra::internal {
+namespace {
+
+void complement(const std::vector<TInterval>& parts, std::vector<TInterval>& out) {
+  out.clear();
+  double from = 0;
+  for (const TInterval& p : parts) {
+    if (p.first > from) out.emplace_back(from, p.first);
+    from = std::max(from, p.second);
+  }
+  if (from < 1) out.emplace_back(from, 1.0);
+}
+
+// Conservative: false only when the segment surely misses the (inflated) box.
+bool segment_meets_box(const Vec2& a, const Vec2& b, const Eigen::AlignedBox2d& box) {
+  Eigen::AlignedBox2d sbox(a.cwiseMin(b), a.cwiseMax(b));
+  if (!sbox.intersects(box)) return false;
+  const Vec2 n(a.y() - b.y(), b.x() - a.x());
+  const double c = n.dot(a);
+  // The box is inflated by the culling margin; this test only needs to survive rounding.
+  const double tol = 1e-12 * (std::abs(c) + n.cwiseAbs().dot(box.max().cwiseAbs().cwiseMax(box.min().cwiseAbs())));
+  int pos = 0, neg = 0;
+  for (const Vec2& q : {box.corner(Eigen::AlignedBox2d::BottomLeft), box.corner(Eigen::AlignedBox2d::BottomRight),
+                        box.corner(Eigen::AlignedBox2d::TopLeft), box.corner(Eigen::AlignedBox2d::TopRight)}) {
+    const double s = n.dot(q) - c;
+    if (s > tol) ++pos;
+    else if (s < -tol) ++neg;
+    else return true;
+  }
+  return pos > 0 && neg > 0;
+}
+
+}  // namespace
+
+HlrResult Roberts::run() {
+  check_view();
+  // Stage 0: facing, pieces, occlusion volumes; the grid over the picture plane.
+  prepare_bodies();
+  build_index();
+  // Stages 1 and 2: the edges, bodies in parallel, results in body order.
+  {
+    std::vector<EdgeOutput> outputs(bodies_.size());
+    parallel_blocks(bodies_.size(), 0, 8, [&](size_t begin, size_t end) {
+      Scratch scratch;
+      for (size_t b = begin; b != end; ++b) edges_of(static_cast<int>(b), scratch, outputs[b]);
+    });
+    for (EdgeOutput& o : outputs) {
+      result_.visible.insert(result_.visible.end(), o.visible.begin(), o.visible.end());
+      result_.hidden.insert(result_.hidden.end(), o.hidden.begin(), o.hidden.end());
+      result_.stats.edges += o.stats.edges;
+      result_.stats.back_edges += o.stats.back_edges;
+      result_.stats.occlusion_tests += o.stats.occlusion_tests;
+      result_.stats.exact_segments += o.stats.exact_segments;
+    }
+  }
+  if (options_.merge_coincident) merge_coincident();
+  // Stage 3: junction lines.
+  if (options_.junctions) junctions();
+  return std::move(result_);
+}
+
+std::string Roberts::name(int body) const {
+  return names_.empty() ? "body " + std::to_string(body) : "body '" + names_[static_cast<size_t>(body)] + "'";
+}
+
+void Roberts::check_view() {
+  result_.picture_box.setEmpty();
+  depth_range_ = Eigen::AlignedBox<double, 1>();
+  depth_range_.setEmpty();
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const Body& body = bodies_[b];
+    if (projection_.perspective()) {
+      if (body.bbox().contains(view_.point) && body.classify(view_.point) != Location::Outside)
+        throw InvalidInput(name(static_cast<int>(b)) + ": the perspective eye lies " +
+                           (body.classify(view_.point) == Location::Inside ? "inside" : "on") +
+                           " the body");
+      for (int v = 0; v < body.vertex_count(); ++v)
+        if (!(projection_.depth(body.vertices()[static_cast<size_t>(v)]) > 0))
+          throw InvalidInput(name(static_cast<int>(b)) + ": vertex " + std::to_string(v) +
+                             " is not in front of the perspective eye (hidden lines need the "
+                             "whole scene in front of it)");
+    }
+    for (const Vec3& p : body.vertices()) {
+      result_.picture_box.extend(projection_.project(p));
+      Eigen::Matrix<double, 1, 1> d;
+      d << projection_.depth(p);
+      depth_range_.extend(d);
+    }
+  }
+  if (result_.picture_box.isEmpty()) result_.picture_box.extend(Vec2::Zero());
+  const double extent = std::max(result_.picture_box.sizes().maxCoeff(),
+                                 result_.picture_box.min().cwiseAbs().maxCoeff() +
+                                     result_.picture_box.max().cwiseAbs().maxCoeff());
+  margin_ = kCullingMargin * std::max(extent, 1e-300);
+  const double dmax = depth_range_.isEmpty() ? 1 : std::max(std::abs(depth_range_.min()(0)), std::abs(depth_range_.max()(0)));
+  depth_margin_ = kCullingMargin * std::max(dmax, 1e-300);
+}
+
+Eigen::AlignedBox2d Roberts::picture_box(const Body& body) const {
+  Eigen::AlignedBox2d box;
+  box.setEmpty();
+  for (const Vec3& p : body.vertices()) box.extend(projection_.project(p));
+  box.min().array() -= margin_;
+  box.max().array() += margin_;
+  return box;
+}
+
+double Roberts::near_depth(const Body& body) const {
+  double d = INFINITY;
+  for (const Vec3& p : body.vertices()) d = std::min(d, projection_.depth(p));
+  return d - depth_margin_;
+}
+
+void Roberts::prepare_bodies() {
+  const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
+  const size_t n = bodies_.size();
+  data_.resize(n);
+  result_.stats.bodies = static_cast<int>(n);
+  // Stage 1 facing, convexity, and the pieces: a convex body is its own piece; others come
+  // from the exact decomposition. Bodies in parallel, results in body order.
+  struct BodyPieces {
+    std::vector<Body> pieces;
+    std::vector<HlrFacet> facets;
+    std::string error;
+  };
+  std::vector<BodyPieces> per_body(n);
+  parallel_blocks(n, 0, 8, [&](size_t begin, size_t end) {
+    for (size_t b = begin; b != end; ++b) {
+      const Body& body = bodies_[b];
+      HlrBody& bd = data_[b];
+      bd.facing.resize(static_cast<size_t>(body.face_count()));
+      for (int f = 0; f < body.face_count(); ++f) bd.facing[static_cast<size_t>(f)] = facing(body, f, view_);
+      bd.convex = is_convex(body);
+      if (bd.convex) {
+        per_body[b].pieces.push_back(body);
+        continue;
+      }
+      try {
+        per_body[b].pieces = decompose(body).pieces;
+      } catch (const InvalidInput& e) {
+        per_body[b].error = e.what();
+        continue;
+      }
+      per_body[b].facets = facets_of(static_cast<int>(b), per_body[b].pieces);
+    }
+  });
+  size_t count = 0;
+  for (size_t b = 0; b < n; ++b) {
+    if (!per_body[b].error.empty()) throw InvalidInput(name(static_cast<int>(b)) + ": " + per_body[b].error);
+    count += per_body[b].pieces.size();
+  }
+  pieces_.reserve(count);
+  for (size_t b = 0; b < n; ++b) {
+    for (Body& p : per_body[b].pieces) pieces_.emplace_back(static_cast<int>(b), std::move(p));
+    for (HlrFacet& f : per_body[b].facets) facets_.push_back(std::move(f));
+  }
+  // Occlusion volumes and picture boxes of the pieces, in parallel.
+  parallel_blocks(pieces_.size(), 0, 16, [&](size_t begin, size_t end) {
+    std::vector<Facing> piece_facing;
+    for (size_t i = begin; i != end; ++i) {
+      HlrPiece& p = pieces_[i];
+      const HlrBody& bd = data_[static_cast<size_t>(p.body)];
+      if (bd.convex) {
+        p.volume = occlusion_volume(p.piece, bd.facing, view_);
+      } else {
+        piece_facing.clear();
+        for (int f = 0; f < p.piece.face_count(); ++f) piece_facing.push_back(facing(p.piece, f, view_));
+        p.volume = occlusion_volume(p.piece, piece_facing, view_);
+        p.front_on_face = faces_on_body(p, bodies_[static_cast<size_t>(p.body)]);
+      }
+      if (brute)
+        for (int f = 0; f < p.piece.face_count(); ++f) p.faces.push_back(exact_face_plane(p.piece, f));
+      p.box = picture_box(p.piece);
+      p.near = near_depth(p.piece);
+      p.occluder.body = p.body;
+      p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
+      p.occluder.faces = &p.faces;
+    }
+  });
+  result_.stats.pieces = static_cast<int>(pieces_.size());
+}
+
+std::vector<HlrFacet> Roberts::facets_of(int body, const std::vector<Body>& pieces) const {
+  std::vector<HlrFacet> out;
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const Body& p = pieces[i];
+    for (int fp = 0; fp < p.face_count(); ++fp) {
+      if (facing(p, fp, view_) != Facing::EdgeOn) continue;
+      const ExactPlane c = exact_face_plane(p, fp);
+      for (size_t j = i + 1; j < pieces.size(); ++j) {
+        const Body& q = pieces[j];
+        if (!p.bbox().intersects(q.bbox())) continue;
+        for (int fq = 0; fq < q.face_count(); ++fq) {
+          const auto& s = q.support(fq);
+          bool same_plane = true;
+          for (int k : s) same_plane = same_plane && side_of_plane(c, q.vertices()[static_cast<size_t>(k)]) == Sign::Zero;
+          if (!same_plane) continue;
+          // Opposite sides: q's vertices off C lie on C's outer side.
+          bool opposite = false;
+          for (const Vec3& v : q.vertices()) {
+            const Sign sv = side_of_plane(c, v);
+            if (sv == Sign::Zero) continue;
+            opposite = sv == Sign::Negative;
+            break;
+          }
+          if (!opposite) continue;
+          HlrFacet facet;
+          facet.occluder.body = body;
+          facet.occluder.plane = c;
+          for (int f = 0; f < p.face_count(); ++f)
+            if (f != fp) facet.occluder.bounds.push_back(exact_face_plane(p, f));
+          for (int f = 0; f < q.face_count(); ++f)
+            if (f != fq) facet.occluder.bounds.push_back(exact_face_plane(q, f));
+          facet.box = picture_box(p).merged(picture_box(q));
+          facet.near = std::min(near_depth(p), near_depth(q));
+          out.push_back(std::move(facet));
+        }
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<int> Roberts::faces_on_body(const HlrPiece& p, const Body& body) {
+  const double tol = 8 * kRoundingPlanarity * body.scale();
+  std::vector<int> out;
+  for (int g : p.volume.front_faces) {
+    int found = -1;
+    const Vec3 n = p.piece.plane(g).normal();
+    for (int f = 0; f < body.face_count() && found < 0; ++f) {
+      const Plane& plane = body.plane(f);
+      if (plane.normal().dot(n) <= 0.5) continue;
+      bool on = true;
+      for (int v : p.piece.faces()[static_cast<size_t>(g)].loops[0])
+        on = on && std::abs(plane.value(p.piece.vertices()[static_cast<size_t>(v)])) <= tol;
+      if (on) found = f;
+    }
+    out.push_back(found);
+  }
+  return out;
+}
+
+bool Roberts::incident(const HlrPiece& p, int f1, int f2, const Vec3& s1, const Vec3& s2) const {
+  for (size_t i = 0; i < p.front_on_face.size(); ++i)
+    if (p.front_on_face[i] >= 0 && (p.front_on_face[i] == f1 || p.front_on_face[i] == f2)) return true;
+  const Vec3 d = s2 - s1;
+  const double len = d.norm();
+  if (len == 0) return false;
+  const double tol = 8 * kRoundingPlanarity * bodies_[static_cast<size_t>(p.body)].scale();
+  const auto& v = p.piece.vertices();
+  for (const auto& [a, b] : p.volume.silhouette)
+    if ((v[static_cast<size_t>(a)] - s1).cross(d).norm() <= tol * len &&
+        (v[static_cast<size_t>(b)] - s1).cross(d).norm() <= tol * len)
+      return true;
+  return false;
+}
+
+void Roberts::build_index() {
+  std::vector<Eigen::AlignedBox2d> boxes;
+  for (const HlrPiece& p : pieces_) boxes.push_back(p.box);
+  for (const HlrFacet& f : facets_) boxes.push_back(f.box);
+  grid_.build(boxes, result_.picture_box);
+  result_.stats.grid_cells = grid_.cells();
+  occluder_count_ = boxes.size();
+}
+
+void Roberts::candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::vector<int>& out) const {
+  out.clear();
+  const Vec2 a2 = projection_.project(a), b2 = projection_.project(b);
+  const double far = std::max(projection_.depth(a), projection_.depth(b));
+  const auto consider = [&](int id) {
+    const bool piece = id < static_cast<int>(pieces_.size());
+    const Eigen::AlignedBox2d& box = piece ? pieces_[static_cast<size_t>(id)].box
+                                           : facets_[static_cast<size_t>(id) - pieces_.size()].box;
+    const double near = piece ? pieces_[static_cast<size_t>(id)].near
+                              : facets_[static_cast<size_t>(id) - pieces_.size()].near;
+    if (near >= far) return;  // wholly behind the segment: cannot hide it
+    if (!segment_meets_box(a2, b2, box)) return;
+    out.push_back(id);
+  };
+  if (!options_.spatial_index || options_.stage2 == HlrOptions::Stage2::BruteForce) {
+    for (int id = 0; id < static_cast<int>(occluder_count_); ++id) consider(id);
+    return;
+  }
+  if (scratch.stamp.size() != occluder_count_) scratch.stamp.assign(occluder_count_, 0);
+  const unsigned stamp = ++scratch.current;
+  Eigen::AlignedBox2d box(a2.cwiseMin(b2), a2.cwiseMax(b2));
+  grid_.visit(box, [&](int id) {
+    if (scratch.stamp[static_cast<size_t>(id)] == stamp) return;
+    scratch.stamp[static_cast<size_t>(id)] = stamp;
+    consider(id);
+  });
+}
+
+bool Roberts::end_on(const Vec3& a, const Vec3& b) const {
+  if (!view_.at_infinity) return collinear(a, b, view_.point);
+  return parallel_to(a, b, view_.direction);
+}
+
+void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
+  const Body& body = bodies_[static_cast<size_t>(b)];
+  const HlrBody& bd = data_[static_cast<size_t>(b)];
+  const auto& v = body.vertices();
+  const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
+  std::vector<int>& ids = scratch.ids;
+  std::vector<SegmentPart>& parts = scratch.parts;
+  detail::Candidates& exact = scratch.exact;
+  for (int e = 0; e < body.edge_count(); ++e) {
+    const Edge& edge = body.edges()[static_cast<size_t>(e)];
+    const Vec3 &p1 = v[static_cast<size_t>(edge.v0)], &p2 = v[static_cast<size_t>(edge.v1)];
+    // Not an edge of the drawing: between two faces of one plane, or seen end-on.
+    const auto& sl = body.support(edge.left_face);
+    bool coplanar = true;
+    for (int k : body.support(edge.right_face))
+      coplanar = coplanar && orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
+                                           v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
+    if (coplanar || end_on(p1, p2)) continue;
+    ++out.stats.edges;
+    // Stage 1: an edge between two back faces is hidden by its own body.
+    if (bd.facing[static_cast<size_t>(edge.left_face)] == Facing::Back &&
+        bd.facing[static_cast<size_t>(edge.right_face)] == Facing::Back) {
+      ++out.stats.back_edges;
+      if (options_.hidden) add_segment(out.hidden, p1, p2, LineKind::Edge, b, -1, e);
+      continue;
+    }
+    // Stage 2: hidden parts by every piece that may cover the edge in the picture. A convex
+    // body does not hide its own front and silhouette edges, so it is skipped.
+    candidates(p1, p2, scratch, ids);
+    const int skip = bd.convex ? b : -1;
+    // Pieces that may hide (part of) the edge: not its own convex body, not a piece of its
+    // own body that it lies on (see incident()).
+    const auto keep = [&](const HlrPiece& o) {
+      if (o.body == skip) return false;
+      return o.body != b || !incident(o, edge.left_face, edge.right_face, p1, p2);
+    };
+    bool rational = brute;
+    for (int id : ids)
+      if (id >= static_cast<int>(pieces_.size())) {
+        const auto& c = facets_[static_cast<size_t>(id) - pieces_.size()].occluder.plane;
+        if (side_of_plane(c, p1) == Sign::Zero && side_of_plane(c, p2) == Sign::Zero) rational = true;
+      }
+    std::vector<TInterval>& visible = scratch.visible;
+    visible.clear();
+    if (rational) {
+      // In an internal cut plane seen edge-on (or the brute-force reference): exact path.
+      ++out.stats.exact_segments;
+      fill_candidates(ids, keep, exact);
+      out.stats.occlusion_tests += static_cast<long long>(exact.pieces.size());
+      visible = detail::visible_parts_exact(p1, p2, exact, view_, brute);
+    } else {
+      // Nearest pieces first: a piece that hides the whole edge ends the search.
+      std::erase_if(ids, [&](int id) { return id >= static_cast<int>(pieces_.size()); });
+      std::sort(ids.begin(), ids.end(), [&](int x, int y) {
+        return pieces_[static_cast<size_t>(x)].near < pieces_[static_cast<size_t>(y)].near;
+      });
+      parts.clear();
+      for (int id : ids) {
+        const HlrPiece& o = pieces_[static_cast<size_t>(id)];
+        if (!o.volume.clipper || !keep(o)) continue;
+        ++out.stats.occlusion_tests;
+        const std::optional<SegmentPart> part = clip_segment_open(*o.volume.clipper, p1, p2);
+        if (!part) continue;
+        parts.push_back(*part);
+        if (!part->lo.plane && !part->hi.plane) break;  // hidden whole
+      }
+      // Visible: the gaps between the merged hidden parts (exactly positive).
+      merge_parts(parts, p1, p2);
+      const std::vector<SegmentPart>& hidden = parts;
+      SegmentEnd from{0, 0, nullptr};
+      for (const SegmentPart& h : hidden) {
+        if (compare_ends(from, h.lo, p1, p2) == Sign::Negative)
+          visible.emplace_back(from.t, std::max(from.t, h.lo.t));
+        from = h.hi;
+      }
+      if (compare_ends(from, SegmentEnd{1, 0, nullptr}, p1, p2) == Sign::Negative)
+        visible.emplace_back(from.t, 1.0);
+    }
+    for (const TInterval& t : visible)
+      add_segment(out.visible, point_at(p1, p2, t.first), point_at(p1, p2, t.second),
+                  LineKind::Edge, b, -1, e);
+    if (options_.hidden) {
+      complement(visible, scratch.gaps);
+      for (const TInterval& t : scratch.gaps)
+        add_segment(out.hidden, point_at(p1, p2, t.first), point_at(p1, p2, t.second),
+                    LineKind::Edge, b, -1, e);
+    }
+  }
+}
+
+}  // namespace hedra::internal

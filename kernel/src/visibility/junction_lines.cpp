@@ -1,0 +1,140 @@
+// Hidden lines, the junction lines (hedra/visibility/roberts.h, stage 3): edges of different
+// bodies on one line joined, and the visible parts of the lines where bodies meet (the exact
+// penetration points are computed in roberts_exact.cpp).
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <numeric>
+
+#include "visibility/roberts_internal.h"
+
+namespace hedra::internal {
+
+const std::vector<std::pair<int, int>>& Roberts::touching_pairs() {
+  if (!pairs_) pairs_ = find_touching_pairs();
+  return *pairs_;
+}
+
+std::vector<std::pair<int, int>> Roberts::find_touching_pairs() const {
+  std::vector<int> order(bodies_.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int x, int y) {
+    return bodies_[static_cast<size_t>(x)].bbox().min().x() < bodies_[static_cast<size_t>(y)].bbox().min().x();
+  });
+  std::vector<std::pair<int, int>> out;
+  for (size_t i = 0; i < order.size(); ++i) {
+    const auto& bi = bodies_[static_cast<size_t>(order[i])].bbox();
+    for (size_t j = i + 1; j < order.size(); ++j) {
+      const auto& bj = bodies_[static_cast<size_t>(order[j])].bbox();
+      if (bj.min().x() > bi.max().x()) break;
+      if (bi.intersects(bj)) out.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+void Roberts::merge_coincident() {
+  const auto& pairs = touching_pairs();
+  if (pairs.empty()) return;
+  // Union-find over (body, edge).
+  std::vector<int> offset(bodies_.size() + 1, 0);
+  for (size_t b = 0; b < bodies_.size(); ++b) offset[b + 1] = offset[b] + bodies_[b].edge_count();
+  std::vector<int> parent(static_cast<size_t>(offset.back()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const std::function<int(int)> find = [&](int x) {
+    while (parent[static_cast<size_t>(x)] != x) x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+    return x;
+  };
+  bool any = false;
+  for (const auto& [i, j] : pairs) {
+    const Body &a = bodies_[static_cast<size_t>(i)], &b = bodies_[static_cast<size_t>(j)];
+    for (int ea = 0; ea < a.edge_count(); ++ea) {
+      const Edge& x = a.edges()[static_cast<size_t>(ea)];
+      const Vec3 &a0 = a.vertices()[static_cast<size_t>(x.v0)], &a1 = a.vertices()[static_cast<size_t>(x.v1)];
+      const Eigen::AlignedBox3d box_a(a0.cwiseMin(a1), a0.cwiseMax(a1));
+      if (!box_a.intersects(b.bbox())) continue;
+      for (int eb = 0; eb < b.edge_count(); ++eb) {
+        const Edge& y = b.edges()[static_cast<size_t>(eb)];
+        const Vec3 &b0 = b.vertices()[static_cast<size_t>(y.v0)], &b1 = b.vertices()[static_cast<size_t>(y.v1)];
+        if (!box_a.intersects(Eigen::AlignedBox3d(b0.cwiseMin(b1), b0.cwiseMax(b1)))) continue;
+        if (!collinear(a0, a1, b0) || !collinear(a0, a1, b1)) continue;
+        parent[static_cast<size_t>(find(offset[static_cast<size_t>(i)] + ea))] = find(offset[static_cast<size_t>(j)] + eb);
+        any = true;
+      }
+    }
+  }
+  if (!any) return;
+  for (std::vector<HlrSegment>* list : {&result_.visible, &result_.hidden}) {
+    std::vector<HlrSegment> keep;
+    std::map<int, std::vector<HlrSegment>> groups;
+    for (HlrSegment& s : *list) groups[find(offset[static_cast<size_t>(s.body)] + s.edge)].push_back(s);
+    for (auto& [root, segs] : groups) {
+      // A group of one edge stays as it is.
+      bool single = true;
+      for (const HlrSegment& s : segs) single = single && s.body == segs[0].body && s.edge == segs[0].edge;
+      if (single) {
+        keep.insert(keep.end(), segs.begin(), segs.end());
+        continue;
+      }
+      // Order along the dominant axis of the common line; join overlapping parts.
+      int axis;
+      (segs[0].b - segs[0].a).cwiseAbs().maxCoeff(&axis);
+      for (HlrSegment& s : segs)
+        if (s.a[axis] > s.b[axis]) std::swap(s.a, s.b), std::swap(s.a2, s.b2);
+      std::sort(segs.begin(), segs.end(), [axis](const HlrSegment& x, const HlrSegment& y) { return x.a[axis] < y.a[axis]; });
+      std::vector<HlrSegment> joined{segs[0]};
+      for (size_t k = 1; k < segs.size(); ++k) {
+        HlrSegment& back = joined.back();
+        if (segs[k].a[axis] <= back.b[axis]) {
+          if (segs[k].b[axis] > back.b[axis]) back.b = segs[k].b, back.b2 = segs[k].b2;
+          if (segs[k].body != back.body || segs[k].edge != back.edge) back.edge = -1;
+        } else {
+          joined.push_back(segs[k]);
+        }
+      }
+      keep.insert(keep.end(), joined.begin(), joined.end());
+    }
+    // Keep the list in body/edge order (groups are keyed by root, not by order).
+    std::stable_sort(keep.begin(), keep.end(), [](const HlrSegment& x, const HlrSegment& y) {
+      return x.body < y.body;
+    });
+    *list = std::move(keep);
+  }
+}
+
+const std::vector<ExactPlane>& Roberts::body_planes(int b) {
+  HlrBody& bd = data_[static_cast<size_t>(b)];
+  if (bd.planes.empty())
+    for (int f = 0; f < bodies_[static_cast<size_t>(b)].face_count(); ++f)
+      bd.planes.push_back(exact_face_plane(bodies_[static_cast<size_t>(b)], f));
+  return bd.planes;
+}
+
+void Roberts::junctions() {
+  const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
+  Scratch scratch;
+  std::vector<int> ids;
+  for (const auto& [i, j] : touching_pairs()) {
+    // A junction segment lies on face fa of body i and face fb of body j.
+    const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
+                                             detail::Candidates& out) {
+      candidates(a, b, scratch, ids);
+      fill_candidates(ids, [&](const HlrPiece& o) {
+        // A convex body's own volume decides exactly (the junction lies exactly on its
+        // face's support plane); a piece of a non-convex one only if not incident.
+        if (o.body == i) return data_[static_cast<size_t>(i)].convex || !incident(o, fa, fa, a, b);
+        if (o.body == j) return data_[static_cast<size_t>(j)].convex || !incident(o, fb, fb, a, b);
+        return true;
+      }, out);
+    };
+    int found = 0;
+    const std::vector<detail::JunctionPart> parts = detail::junction_lines(
+        bodies_[static_cast<size_t>(i)], bodies_[static_cast<size_t>(j)], body_planes(i),
+        body_planes(j), view_, query, brute, found);
+    result_.stats.junction_segments += found;
+    for (const auto& p : parts) add_segment(result_.visible, p.a, p.b, LineKind::Junction, i, j, -1);
+  }
+}
+
+}  // namespace hedra::internal

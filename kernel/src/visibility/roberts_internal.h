@@ -1,0 +1,225 @@
+// Internals of hidden lines (hedra/visibility/roberts.h), shared by the visibility pass
+// (hidden_lines.cpp: stages 0–2, the picture grid, the edges) and the junction lines
+// (junction_lines.cpp: coincident edges and stage 3). The exact paths are in roberts_exact.h.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hedra/clip/cyrus_beck.h"
+#include "hedra/visibility/roberts.h"
+#include "visibility/roberts_exact.h"
+
+namespace hedra::internal {
+
+using TInterval = std::pair<double, double>;
+
+// ---- Spatial index: a uniform grid over the picture plane ----
+
+class PictureGrid {
+ public:
+  // Cells about the mean size of the boxes (docs/algorithms.md §6.7: the course's N1·N2 cells of
+  // about an edge's length), at most 4 per box.
+  void build(const std::vector<Eigen::AlignedBox2d>& boxes, const Eigen::AlignedBox2d& extent) {
+    origin_ = extent.min();
+    const Vec2 size = extent.sizes().cwiseMax(1e-300);
+    double cell = 0;
+    int counted = 0;
+    for (const auto& b : boxes)
+      if (!b.isEmpty()) cell += b.sizes().maxCoeff(), ++counted;
+    cell = counted ? cell / counted : size.maxCoeff();
+    if (!(cell > 0)) cell = size.maxCoeff();
+    const double max_cells = std::max<double>(16, 4.0 * static_cast<double>(boxes.size()));
+    while ((size.x() / cell + 1) * (size.y() / cell + 1) > max_cells) cell *= 1.5;
+    inv_ = 1 / cell;
+    nx_ = std::max(1, static_cast<int>(std::ceil(size.x() * inv_)));
+    ny_ = std::max(1, static_cast<int>(std::ceil(size.y() * inv_)));
+    start_.assign(static_cast<size_t>(nx_) * ny_ + 1, 0);
+    for (const auto& b : boxes) visit_cells(b, [&](size_t c) { ++start_[c + 1]; });
+    std::partial_sum(start_.begin(), start_.end(), start_.begin());
+    ids_.resize(static_cast<size_t>(start_.back()));
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (size_t i = 0; i < boxes.size(); ++i)
+      visit_cells(boxes[i], [&](size_t c) { ids_[static_cast<size_t>(fill[c]++)] = static_cast<int>(i); });
+  }
+
+  // Calls f(id) for every box sharing a cell with `box` (an id may come several times).
+  template <class F>
+  void visit(const Eigen::AlignedBox2d& box, F&& f) const {
+    visit_cells(box, [&](size_t c) {
+      for (int k = start_[c]; k < start_[c + 1]; ++k) f(ids_[static_cast<size_t>(k)]);
+    });
+  }
+
+  int cells() const { return nx_ * ny_; }
+
+ private:
+  template <class F>
+  void visit_cells(const Eigen::AlignedBox2d& box, F&& f) const {
+    if (box.isEmpty()) return;
+    const auto index = [&](double v, double o, int n) {
+      const double c = std::floor((v - o) * inv_);
+      return c < 0 ? 0 : (c >= n ? n - 1 : static_cast<int>(c));
+    };
+    const int x0 = index(box.min().x(), origin_.x(), nx_), x1 = index(box.max().x(), origin_.x(), nx_);
+    const int y0 = index(box.min().y(), origin_.y(), ny_), y1 = index(box.max().y(), origin_.y(), ny_);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) f(static_cast<size_t>(y) * nx_ + x);
+  }
+
+  Vec2 origin_ = Vec2::Zero();
+  double inv_ = 1;
+  int nx_ = 1, ny_ = 1;
+  std::vector<int> start_, ids_;
+};
+
+struct HlrPiece {
+  HlrPiece(int b, Body p) : body(b), piece(std::move(p)) {}
+  int body = -1;
+  Body piece;
+  OcclusionVolume volume;
+  std::vector<ExactPlane> faces;  // for the brute-force path
+  // Pieces of a non-convex body: for each front face, the body's face it lies on (−1: a cut).
+  std::vector<int> front_on_face;
+  detail::PieceOccluder occluder;
+  Eigen::AlignedBox2d box;
+  double near = 0;  // least depth, minus the margin
+};
+
+struct HlrFacet {
+  detail::FacetOccluder occluder;
+  Eigen::AlignedBox2d box;
+  double near = 0;
+};
+
+struct HlrBody {
+  bool convex = true;
+  std::vector<Facing> facing;
+  std::vector<ExactPlane> planes;  // exact face planes (junctions), filled on demand
+};
+
+class Roberts {
+ public:
+  Roberts(std::span<const Body> bodies, std::span<const std::string> names, const Camera& camera,
+          const HlrOptions& options)
+      : bodies_(bodies), names_(names), camera_(camera), options_(options),
+        view_(Viewpoint::of(camera)), projection_(camera) {}
+
+  HlrResult run();
+
+ private:
+  std::string name(int body) const;
+
+  void check_view();
+
+  Eigen::AlignedBox2d picture_box(const Body& body) const;
+
+  double near_depth(const Body& body) const;
+
+  void prepare_bodies();
+
+  // Internal facets seen edge-on (detail::FacetOccluder): pairs of pieces of one body with
+  // faces in one plane C, on opposite sides, C containing the viewpoint.
+  std::vector<HlrFacet> facets_of(int body, const std::vector<Body>& pieces) const;
+
+  // Which face of `body` each front face of piece p lies on, within the rounding that
+  // decomposition and rotated coordinates leave (kRoundingPlanarity, as Body and decompose use).
+  static std::vector<int> faces_on_body(const HlrPiece& p, const Body& body);
+
+  // A segment of a non-convex body, lying on the body's faces f1 and f2, and a piece of the same
+  // body: does the segment lie on a bounding plane of the piece's occlusion volume (a front face
+  // on f1 or f2, or a silhouette edge on the segment's line)? Then the piece hides none of it.
+  // Exact for exact coordinates; for rounded ones (a rotated body, whose decomposition's planes
+  // and own vertices disagree by ulps) this is the incidence the geometry means.
+  bool incident(const HlrPiece& p, int f1, int f2, const Vec3& s1, const Vec3& s2) const;
+
+  void build_index();
+
+  // Per-thread work space of the candidate search.
+  struct Scratch {
+    std::vector<unsigned> stamp;
+    unsigned current = 0;
+    std::vector<int> ids;
+    std::vector<SegmentPart> parts;
+    detail::Candidates exact;
+    std::vector<TInterval> visible, gaps;
+  };
+
+  // Per-body output of stages 1 and 2.
+  struct EdgeOutput {
+    std::vector<HlrSegment> visible, hidden;
+    HlrStats stats;
+  };
+
+  // Candidate occluders (piece ids, then facet ids offset by the piece count) for a segment.
+  void candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::vector<int>& out) const;
+
+  template <class Keep>
+  void fill_candidates(const std::vector<int>& ids, Keep&& keep, detail::Candidates& out) const {
+    out.pieces.clear();
+    out.facets.clear();
+    for (int id : ids) {
+      if (id < static_cast<int>(pieces_.size())) {
+        const HlrPiece& p = pieces_[static_cast<size_t>(id)];
+        if (keep(p)) out.pieces.push_back(&p.occluder);
+      } else {
+        out.facets.push_back(&facets_[static_cast<size_t>(id) - pieces_.size()].occluder);
+      }
+    }
+  }
+
+  bool end_on(const Vec3& a, const Vec3& b) const;
+
+  void add_segment(std::vector<HlrSegment>& list, const Vec3& a, const Vec3& b, LineKind kind,
+                   int body, int other, int edge) const {
+    if (a == b) return;
+    HlrSegment s;
+    s.a = a;
+    s.b = b;
+    s.a2 = projection_.project(a);
+    s.b2 = projection_.project(b);
+    s.kind = kind;
+    s.body = body;
+    s.other_body = other;
+    s.edge = edge;
+    list.push_back(s);
+  }
+
+  void edges_of(int b, Scratch& scratch, EdgeOutput& out) const;
+
+  // Pairs of bodies whose boxes meet (closed), by sweeping along x; computed once.
+  const std::vector<std::pair<int, int>>& touching_pairs();
+
+  std::vector<std::pair<int, int>> find_touching_pairs() const;
+
+  // Edges of different bodies on one line: their parts are joined along the line.
+  void merge_coincident();
+
+  const std::vector<ExactPlane>& body_planes(int b);
+
+  void junctions();
+
+  std::span<const Body> bodies_;
+  std::span<const std::string> names_;
+  Camera camera_;
+  HlrOptions options_;
+  Viewpoint view_;
+  PictureProjection projection_;
+  HlrResult result_;
+  std::vector<HlrBody> data_;
+  std::vector<HlrPiece> pieces_;
+  std::vector<HlrFacet> facets_;
+  PictureGrid grid_;
+  size_t occluder_count_ = 0;
+  std::optional<std::vector<std::pair<int, int>>> pairs_;
+  double margin_ = 0, depth_margin_ = 0;
+  Eigen::AlignedBox<double, 1> depth_range_;
+};
+
+}  // namespace hedra::internal

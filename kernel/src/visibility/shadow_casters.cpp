@@ -1,0 +1,82 @@
+// Shadows: the convex pieces' broad phase, which pieces can shade a face
+// (shadows_internal.h).
+#include <algorithm>
+#include <cmath>
+
+#include "hedra/core/tolerance.h"
+#include "visibility/shadows_internal.h"
+
+namespace hedra::internal {
+
+bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale) {
+  const double tol = kRoundingPlanarity * scale;
+  const Plane plane = Plane::through(fd.anchor, fd.normal);
+  for (int g = 0; g < piece.face_count(); ++g) {
+    if (piece.inner_normal(g).dot(fd.normal) <= 0) continue;
+    bool on = true;
+    for (int id : piece.faces()[static_cast<size_t>(g)].loops[0])
+      if (std::abs(plane.value(piece.vertices()[static_cast<size_t>(id)])) > tol) {
+        on = false;
+        break;
+      }
+    if (on) return true;
+  }
+  return false;
+}
+
+CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vector<OcclusionVolume>& volumes,
+                         const Viewpoint& view, double scale)
+    : pieces_(pieces), volumes_(volumes), view_(view), margin_(1e-9 * scale) {
+  if (!view.at_infinity) {
+    for (size_t p = 0; p < pieces.size(); ++p)
+      if (volumes[p].clipper) active_.push_back(static_cast<int>(p));
+    return;
+  }
+  dir_ = view.direction.normalized();
+  e1_ = dir_.unitOrthogonal();
+  e2_ = dir_.cross(e1_);
+  std::vector<int> ids;
+  for (size_t p = 0; p < pieces.size(); ++p) {
+    if (!volumes[p].clipper) continue;
+    Bounds b = bounds(pieces[p].shape.vertices());
+    boxes_.push_back(b);
+    ids.push_back(static_cast<int>(p));
+  }
+  if (ids.empty()) return;
+  lo_ = boxes_[0].lo;
+  Vec2 hi = boxes_[0].hi;
+  for (const Bounds& b : boxes_) {
+    lo_ = lo_.cwiseMin(b.lo);
+    hi = hi.cwiseMax(b.hi);
+  }
+  n_ = std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(ids.size())))), 1,
+                  2048);
+  const Vec2 size = (hi - lo_).cwiseMax(Vec2(1e-300, 1e-300));
+  inv_ = Vec2(n_ / size.x(), n_ / size.y());
+  cells_.assign(static_cast<size_t>(n_) * static_cast<size_t>(n_) + 1, 0);
+  for (const Bounds& b : boxes_) for_cells(b, [&](size_t c) { ++cells_[c + 1]; });
+  for (size_t c = 1; c < cells_.size(); ++c) cells_[c] += cells_[c - 1];
+  items_.resize(static_cast<size_t>(cells_.back()));
+  std::vector<int> fill(cells_.begin(), cells_.end() - 1);
+  for (size_t k = 0; k < boxes_.size(); ++k)
+    for_cells(boxes_[k],
+              [&](size_t c) { items_[static_cast<size_t>(fill[c]++)] = static_cast<int>(k); });
+  ids_ = std::move(ids);
+}
+CasterIndex::Bounds CasterIndex::bounds(const std::vector<Vec3>& pts) const {
+  Bounds b{Vec2(1e300, 1e300), Vec2(-1e300, -1e300), 1e300, -1e300};
+  for (const Vec3& p : pts) {
+    const Vec2 q(p.dot(e1_), p.dot(e2_));
+    b.lo = b.lo.cwiseMin(q);
+    b.hi = b.hi.cwiseMax(q);
+    const double d = p.dot(dir_);
+    b.depth_lo = std::min(b.depth_lo, d);
+    b.depth_hi = std::max(b.depth_hi, d);
+  }
+  b.lo.array() -= margin_;
+  b.hi.array() += margin_;
+  b.depth_lo -= margin_;
+  b.depth_hi += margin_;
+  return b;
+}
+}  // namespace hedra::internal

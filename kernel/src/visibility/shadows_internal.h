@@ -1,0 +1,250 @@
+// Internals of shadows (hedra/visibility/shadows.h, sun_study.h): faces in their 2D frames
+// and their convex parts (shadow_faces.cpp), the convex pieces and the caster index
+// (shadow_casters.cpp), the prepared scene (shadows.cpp) and sun studies (sun_study.cpp).
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "hedra/visibility/polygon_union.h"
+#include "hedra/visibility/shadows.h"
+
+namespace hedra::internal {
+
+// ---- Faces in their own 2D frame ----
+//
+// A face is projected onto the coordinate plane of its normal's dominant axis k, keeping
+// (p[k+1], p[k+2]) (cyclic): dropping a coordinate is exact, so exact 3D input points stay
+// exact 2D points, and the 2D predicates on them decide exactly. 2D rings are
+// counter-clockwise; `flip` says the face's own orientation (counter-clockwise seen from
+// outside) is clockwise in 2D.
+
+inline Vec2 drop(const Vec3& p, int k) { return {p[(k + 1) % 3], p[(k + 2) % 3]}; }
+
+struct ShadowFace {
+  int axis = 2;
+  bool flip = false;
+  double area = 0;
+  double area_factor = 1;       // 3D area = 2D area × factor
+  Vec3 normal = Vec3::UnitZ();  // unit inner normal
+  Vec3 anchor = Vec3::Zero();   // a vertex of the face (exact), for lifting 2D points
+  // Convex parts, face orientation, input vertices: the outer loop itself when it is convex
+  // and the face has no holes (`convex`), else `parts`.
+  bool convex = true;
+  std::vector<Polygon3> parts;
+  Eigen::AlignedBox3d box;
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+  ExactPlane plane;           // through the face's support triple: Positive inner (face_side)
+  std::vector<Vec3> corners;  // the outer loop
+
+  Vec3 lift(const Vec2& q) const {
+    const int k = axis, i = (k + 1) % 3, j = (k + 2) % 3;
+    Vec3 p;
+    p[i] = q.x();
+    p[j] = q.y();
+    p[k] =
+        anchor[k] - (normal[i] * (q.x() - anchor[i]) + normal[j] * (q.y() - anchor[j])) / normal[k];
+    return p;
+  }
+  Polygon3 lift(const Ring2& ring) const {
+    Polygon3 out;
+    out.reserve(ring.size());
+    for (const Vec2& q : ring) out.push_back(lift(q));
+    if (flip) std::reverse(out.begin(), out.end());
+    return out;
+  }
+  template <class F>
+  void for_parts(F&& f) const {
+    if (convex) {
+      f(corners);
+      return;
+    }
+    for (const Polygon3& p : parts) f(p);
+  }
+  std::vector<Ring2> parts2d() const {
+    std::vector<Ring2> out;
+    for_parts([&](const Polygon3& p) { out.push_back(project(p)); });
+    return out;
+  }
+  Ring2 project(const Polygon3& poly) const {
+    Ring2 r;
+    r.reserve(poly.size());
+    for (const Vec3& p : poly) r.push_back(drop(p, axis));
+    if (flip) std::reverse(r.begin(), r.end());
+    return r;
+  }
+};
+
+/// The face's data: its exact plane, 2D frame, box and convex parts. Cost O(n²) in the face's
+/// triangles when it is not convex (greedy merging), else O(n).
+ShadowFace make_face(const Body& body, int f);
+
+/// A clipped piece in 2D, made strictly convex (see shadow_faces.cpp); false when nothing of
+/// positive area is left. Cost O(n²) worst case, O(n) in practice.
+bool to_convex_ring(const ShadowFace& fd, const Polygon3& poly, Ring2& ring);
+
+/// A 2D polygon of the face lifted onto the face's plane, with its 3D area. Cost O(n).
+ShadowPolygon lift_polygon(const ShadowFace& fd, const PolygonWithHoles2& p);
+
+/// The whole face as a shadow polygon (self shadow). Cost O(n).
+ShadowPolygon whole_face(const Body& body, int f);
+
+// ---- Pieces and the broad phase ----
+
+struct ShadowPiece {
+  explicit ShadowPiece(Body b) : shape(std::move(b)) {}
+  int body = 0;  // index into Impl::bodies
+  Body shape;
+  std::vector<ExactPlane> planes;  // face planes (face_plane)
+  Eigen::AlignedBox3d box;
+  Vec3 centre = Vec3::Zero();
+  double radius = 0;
+};
+
+struct ShadowBody {
+  explicit ShadowBody(Body b) : body(std::move(b)) {}
+  int scene_index = 0;
+  std::string name;
+  Body body;
+  bool convex = true;
+  std::vector<int> pieces;
+  std::vector<ShadowFace> faces;
+  /// Non-convex body: for each face, its own pieces that have a face on the face's plane. Such
+  /// a piece lies on the inner side of that plane and can never hide a point of the face from
+  /// a viewpoint turned to it; its rounded coordinates (a rotated body) may put its face plane
+  /// a few ulps off, which must not turn the face into "shadow".
+  std::vector<std::vector<int>> own_adjacent;
+  bool skips(int face, int piece) const {
+    if (convex) return true;  // a convex body hides nothing of its own faces
+    const auto& v = own_adjacent[static_cast<size_t>(face)];
+    return std::find(v.begin(), v.end(), piece) != v.end();
+  }
+};
+
+/// Does a face of `piece` lie on the plane of face `fd` of its body, up to the rounding of the
+/// decomposition's coordinates (kRoundingPlanarity × scale, same orientation)?
+bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale);
+
+// For one viewpoint: which pieces can hide part of a face. Parallel view: a uniform grid over
+// the pieces' boxes projected onto a plane across the direction, plus depth (a piece can only
+// shadow what lies beyond its nearest point). Finite viewpoint: bounding cones from the point.
+class CasterIndex {
+ public:
+  CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vector<OcclusionVolume>& volumes,
+              const Viewpoint& view, double scale);
+
+  // Calls f(piece) for each piece that may hide part of a region (a face, or a point): its
+  // corners, and a bounding sphere (each piece once, in a deterministic order).
+  template <class F>
+  void candidates(const std::vector<Vec3>& corners, const Vec3& centre, double radius,
+                  F&& f) const {
+    if (!view_.at_infinity) {
+      const Vec3 fc = centre - view_.point;
+      const double fd = fc.norm();
+      for (int p : active_) {
+        const ShadowPiece& piece = pieces_[static_cast<size_t>(p)];
+        const Vec3 pc = piece.centre - view_.point;
+        const double pd = pc.norm();
+        const double pr = piece.radius + margin_, fr = radius + margin_;
+        // Depth: the face's farthest point must lie beyond the piece's nearest.
+        if (fd + fr < pd - pr) continue;
+        if (pd > pr && fd > fr) {
+          const double a = std::asin(std::min(1.0, pr / pd)) + std::asin(std::min(1.0, fr / fd));
+          const double cosang = std::clamp(pc.dot(fc) / (pd * fd), -1.0, 1.0);
+          if (a < std::numbers::pi && std::acos(cosang) > a + 1e-9) continue;
+        }
+        f(p);
+      }
+      return;
+    }
+    if (ids_.empty()) return;
+    const Bounds fb = bounds(corners);
+    // Each piece once: a per-thread stamp per piece (cell order is deterministic).
+    thread_local std::vector<unsigned> stamp;
+    thread_local unsigned generation = 0;
+    if (stamp.size() < boxes_.size()) stamp.assign(boxes_.size(), 0);
+    if (++generation == 0) {
+      std::fill(stamp.begin(), stamp.end(), 0);
+      generation = 1;
+    }
+    for_cells(fb, [&](size_t c) {
+      for (int q = cells_[c]; q < cells_[c + 1]; ++q) {
+        const size_t k = static_cast<size_t>(items_[static_cast<size_t>(q)]);
+        if (stamp[k] == generation) continue;
+        stamp[k] = generation;
+        const Bounds& b = boxes_[k];
+        if (b.lo.x() > fb.hi.x() || fb.lo.x() > b.hi.x() || b.lo.y() > fb.hi.y() ||
+            fb.lo.y() > b.hi.y())
+          continue;
+        if (fb.depth_hi < b.depth_lo) continue;  // the face lies wholly before the piece
+        f(ids_[k]);
+      }
+    });
+  }
+
+ private:
+  struct Bounds {
+    Vec2 lo, hi;
+    double depth_lo, depth_hi;
+  };
+  Bounds bounds(const std::vector<Vec3>& pts) const;
+  size_t cell(double v, double lo, double inv) const {
+    const double x = (v - lo) * inv;
+    if (!(x > 0)) return 0;
+    return static_cast<size_t>(std::min(x, static_cast<double>(n_ - 1)));
+  }
+  template <class F>
+  void for_cells(const Bounds& b, F&& f) const {
+    const size_t x0 = cell(b.lo.x(), lo_.x(), inv_.x()), x1 = cell(b.hi.x(), lo_.x(), inv_.x());
+    const size_t y0 = cell(b.lo.y(), lo_.y(), inv_.y()), y1 = cell(b.hi.y(), lo_.y(), inv_.y());
+    for (size_t y = y0; y <= y1; ++y)
+      for (size_t x = x0; x <= x1; ++x) f(y * static_cast<size_t>(n_) + x);
+  }
+
+  const std::vector<ShadowPiece>& pieces_;
+  const std::vector<OcclusionVolume>& volumes_;
+  Viewpoint view_;
+  double margin_;
+  std::vector<int> active_;  // finite viewpoint
+  Vec3 dir_ = Vec3::UnitZ(), e1_ = Vec3::UnitX(), e2_ = Vec3::UnitY();
+  std::vector<Bounds> boxes_;
+  std::vector<int> ids_;
+  Vec2 lo_ = Vec2::Zero(), inv_ = Vec2::Ones();
+  int n_ = 1;
+  std::vector<int> cells_, items_;
+};
+
+/// The friend of ShadowScene through which the internals reach its Impl.
+struct ShadowSceneAccess {
+  static const ShadowScene::Impl& impl(const ShadowScene& scene) { return *scene.impl_; }
+};
+
+}  // namespace hedra::internal
+
+namespace hedra {
+
+struct ShadowScene::Impl {
+  Camera camera;
+  std::vector<internal::ShadowBody> bodies;
+  std::vector<internal::ShadowPiece> pieces;
+  std::vector<int> first_face;             // per scene body
+  std::vector<std::pair<int, int>> faces;  // (body data, face) in result order
+  double scale = 1;
+
+  // The 2D shadow pieces of face (b, f) from a viewpoint: the face's convex parts clipped
+  // against the occlusion volumes of the candidate pieces.
+  void hidden_pieces(int b, int f, const internal::CasterIndex& index,
+                     const std::vector<OcclusionVolume>& volumes, std::vector<Ring2>& out) const;
+  // Whether p (on face (b, f)) lies strictly inside a candidate's occlusion volume.
+  bool point_hidden(int b, int f, const Vec3& p, const internal::CasterIndex& index,
+                    const std::vector<OcclusionVolume>& volumes) const;
+  // The occlusion volumes of every piece from a viewpoint (cached face planes and facings).
+  std::vector<OcclusionVolume> volumes(const Viewpoint& view, int threads) const;
+};
+
+}  // namespace hedra
