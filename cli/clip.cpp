@@ -50,7 +50,7 @@ std::vector<ConvexClipper> read_clipper(const std::string& path, double& scale) 
   for (const NamedBody& named : bodies) {
     const Body& body = named.body;
     scale = std::max(scale, body.scale());
-    if (convexity(body).convex) {
+    if (is_convex(body)) {
       pieces.emplace_back(body);
       continue;
     }

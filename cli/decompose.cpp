@@ -52,7 +52,7 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
   std::vector<std::pair<std::string, std::string>> piece_files;
   nlohmann::ordered_json results = nlohmann::ordered_json::array();
   for (const NamedBody& nb : bodies) {
-    if (scene && convexity(nb.body).convex) continue;
+    if (scene && is_convex(nb.body)) continue;
     DecomposeOptions options;
     options.threads = c.threads;
     options.merge = c.merge;
@@ -79,7 +79,7 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
     bool all_convex = true;
     for (const Body& p : d.pieces) {
       volume += p.volume();
-      all_convex = all_convex && convexity(p).convex;
+      all_convex = all_convex && is_convex(p);
     }
     if (!c.out_dir.empty()) {
       const std::string prefix = bodies.size() == 1 ? "" : file_name_part(nb.name) + "_";

@@ -430,7 +430,7 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
 
   Image image;
   with_threads(options.threads, [&] {
-    // ---- Set-up: geometry, view, culling (algorithms.md §6 stage 1 by the body matrix) ----
+    // ---- Set-up: geometry, view, culling (docs/algorithms.md §6.1 by the body matrix) ----
     const SceneGeometry geometry = SceneGeometry::of(scene);
     const Eigen::AlignedBox3d box = geometry.bbox();
     const RasterView view = scene_view(scene, width, height);

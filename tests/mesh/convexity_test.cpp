@@ -7,6 +7,8 @@
 #include <random>
 
 #include "hedra/core/primitives.h"
+#include "testing/clip_fixtures.h"
+#include "testing/convexity_oracle.h"
 
 namespace hedra {
 namespace {
@@ -117,6 +119,211 @@ TEST(Convexity, FlatDataIsReportedAsDegenerate) {
   EXPECT_TRUE(convexity(v, f).flat);
   EXPECT_FALSE(convexity(v, f).convex);
   EXPECT_TRUE(convexity_by_rotation(v, f).flat);
+}
+
+
+// ---- The O(V + E) certificate of is_convex() against the O(F·V) definition ----
+
+void expect_matches_oracle(const Body& body, const std::string& name) {
+  const std::vector<int> oracle = testing::nonconvex_faces_oracle(body);
+  EXPECT_EQ(is_convex(body), oracle.empty()) << name;
+  ConvexityReport report = convexity(body);
+  EXPECT_EQ(report.convex, oracle.empty()) << name;
+  EXPECT_EQ(report.nonconvex_faces, oracle) << name;
+}
+
+std::vector<Vec3> random_points(std::mt19937_64& rng, int n, bool on_sphere) {
+  std::normal_distribution<double> normal(0, 1);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<Vec3> points;
+  for (int i = 0; i < n; ++i) {
+    Vec3 d(normal(rng), normal(rng), normal(rng));
+    d.normalize();
+    points.push_back(on_sphere ? d : d * std::cbrt(unit(rng)));
+  }
+  return points;
+}
+
+TEST(IsConvex, RandomConvexHullsAreConvex) {
+  std::mt19937_64 rng(151);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 4 + trial * 25;
+    Body hull = testing::convex_hull_body(random_points(rng, n, trial % 2 == 0));
+    expect_matches_oracle(hull, "hull " + std::to_string(trial));
+    EXPECT_EQ(certify_convexity(hull), ConvexityCertificate::Convex) << trial;
+  }
+}
+
+TEST(IsConvex, DentedHullsAgreeWithTheDefinition) {
+  // A hull with one vertex pulled towards the centre: non-convex unless the dent is shallow
+  // enough to stay inside every neighbouring plane; the definition decides which.
+  std::mt19937_64 rng(152);
+  std::uniform_real_distribution<double> depth(0.0, 1.0);
+  int nonconvex = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    Body hull = testing::convex_hull_body(random_points(rng, 30 + trial * 7, true));
+    std::vector<Vec3> v = hull.vertices();
+    v[static_cast<size_t>(trial) % v.size()] *= 1 - 0.2 * depth(rng) * depth(rng);
+    Body dented(v, hull.faces());
+    expect_matches_oracle(dented, "dented " + std::to_string(trial));
+    nonconvex += !is_convex(dented);
+  }
+  EXPECT_GT(nonconvex, 30);  // most dents are deep enough to show
+}
+
+TEST(IsConvex, RotatedAndRoundedBodiesAgreeWithTheDefinition) {
+  // Rotations round coordinates, so quadrilaterals and caps are no longer exactly planar: the
+  // certificate splits quadrilaterals and leaves larger rounded faces to the definition.
+  std::mt19937 random(153);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::vector<std::pair<std::string, Body>> bodies = {
+      {"sphere", sphere({0.3, -0.2, 0.1}, 1.5, 0.002)},
+      {"cylinder", cylinder(1, 0, 2, 0.001)},
+      {"star", star(7)},
+      {"comb", comb(4)},
+      {"box", box({0, 0, 0}, {1, 2, 3})},
+  };
+  for (const auto& [name, body] : bodies) {
+    expect_matches_oracle(body, name);
+    for (int trial = 0; trial < 4; ++trial) {
+      Transform t = Transform::rotation({unit(random), unit(random), unit(random)}, 180 * unit(random)) *
+                    Transform::translation(Vec3(unit(random), unit(random), unit(random)) * 10);
+      expect_matches_oracle(body.transformed(t), name + " rotated " + std::to_string(trial));
+    }
+  }
+}
+
+TEST(IsConvex, ReflexEdgesSettleNonConvexBodiesAtOnce) {
+  for (const Case& c : cases())
+    if (!c.convex) EXPECT_EQ(certify_convexity(c.body), ConvexityCertificate::NotConvex) << c.name;
+    else EXPECT_EQ(certify_convexity(c.body), ConvexityCertificate::Convex) << c.name;
+}
+
+TEST(IsConvex, CoplanarSplitFacesAreConvex) {
+  // A cube whose top is an L-shaped face and a square face in one plane: flat edges and a
+  // non-convex face on a convex body.
+  std::vector<Vec3> v = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0, 2}, {2, 0, 2},
+                         {2, 2, 2}, {0, 2, 2}, {1, 0, 2}, {1, 1, 2}, {0, 1, 2}, {2, 1, 2}};
+  // Top: square (0,0)-(1,1) at vertices 4, 8, 9, 10; L = the rest: 8, 5, 11, 6, 7, 10, 9.
+  std::vector<Face> f = {{0, 3, 2, 1},        {4, 8, 9, 10},        {8, 5, 11, 6, 7, 10, 9},
+                         {0, 1, 5, 8, 4},     {1, 2, 6, 11, 5},     {2, 3, 7, 6},
+                         {3, 0, 4, 10, 7}};
+  Body cube(v, f);
+  expect_matches_oracle(cube, "split cube");
+  EXPECT_TRUE(is_convex(cube));
+  EXPECT_EQ(certify_convexity(cube), ConvexityCertificate::Convex);
+}
+
+TEST(IsConvex, CollinearVerticesAndFilledHolesAreCertified) {
+  // A box whose edges carry midpoints (every face has collinear vertices), and a box whose
+  // top is a face with a hole filled by a coplanar face (edges along a hole loop are flat).
+  std::vector<Vec3> v;
+  auto id = [&](double x, double y, double z) {
+    for (size_t i = 0; i < v.size(); ++i)
+      if (v[i] == Vec3(x, y, z)) return static_cast<int>(i);
+    v.emplace_back(x, y, z);
+    return static_cast<int>(v.size()) - 1;
+  };
+  // Each face: its corners counter-clockwise from outside with the edge midpoints between.
+  auto face = [&](std::vector<Vec3> corners) {
+    std::vector<int> loop;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      const Vec3 a = corners[i], b = corners[(i + 1) % corners.size()], m = (a + b) / 2;
+      loop.push_back(id(a.x(), a.y(), a.z()));
+      loop.push_back(id(m.x(), m.y(), m.z()));
+    }
+    return Face(loop);
+  };
+  std::vector<Face> f = {
+      face({{0, 0, 0}, {0, 2, 0}, {2, 2, 0}, {2, 0, 0}}), face({{0, 0, 2}, {2, 0, 2}, {2, 2, 2}, {0, 2, 2}}),
+      face({{0, 0, 0}, {2, 0, 0}, {2, 0, 2}, {0, 0, 2}}), face({{2, 0, 0}, {2, 2, 0}, {2, 2, 2}, {2, 0, 2}}),
+      face({{2, 2, 0}, {0, 2, 0}, {0, 2, 2}, {2, 2, 2}}), face({{0, 2, 0}, {0, 0, 0}, {0, 0, 2}, {0, 2, 2}})};
+  Body midpoints(v, f);
+  expect_matches_oracle(midpoints, "box with edge midpoints");
+  EXPECT_EQ(certify_convexity(midpoints), ConvexityCertificate::Convex);
+
+  Body plate = prism({{0, 0}, {4, 0}, {4, 4}, {0, 4}}, 0, 1, {{{1, 1}, {3, 1}, {3, 3}, {1, 3}}});
+  std::vector<Vec3> pv = plate.vertices();
+  std::vector<Face> pf;
+  for (const Face& g : plate.faces()) {
+    if (g.loops.size() == 2 && plate.inner_normal(static_cast<int>(&g - &plate.faces()[0])).z() < 0) {
+      pf.push_back(g);  // the top face with its hole
+      std::vector<int> fill(g.loops[1].rbegin(), g.loops[1].rend());
+      pf.push_back(Face(fill));  // the hole, filled flush
+    } else if (g.loops.size() == 2) {
+      pf.push_back(Face(g.loops[0]));  // the bottom without its hole
+    }
+  }
+  ASSERT_EQ(pf.size(), 3u);
+  // Keep the outer walls; drop the hole walls and the vertices only they used.
+  for (const Face& g : plate.faces())
+    if (g.loops.size() == 1) {
+      bool outer = true;
+      for (int x : g.loops[0]) outer = outer && (pv[x].x() == 0 || pv[x].x() == 4 || pv[x].y() == 0 || pv[x].y() == 4);
+      if (outer) pf.push_back(g);
+    }
+  // The bottom's hole vertices are no longer used: rebuild with used vertices only.
+  std::vector<int> remap(pv.size(), -1);
+  std::vector<Vec3> used;
+  for (Face& g : pf)
+    for (auto& loop : g.loops)
+      for (int& x : loop) {
+        if (remap[x] < 0) { remap[x] = static_cast<int>(used.size()); used.push_back(pv[x]); }
+        x = remap[x];
+      }
+  Body filled(used, pf);
+  expect_matches_oracle(filled, "plate with a filled hole");
+  EXPECT_EQ(certify_convexity(filled), ConvexityCertificate::Convex);
+}
+
+TEST(IsConvex, LocallyConvexSurfaceWoundTwiceIsNotConvex) {
+  // A bipyramid over the heptagram {7/2}: the equator runs twice around the axis, every edge
+  // is convex and the centre lies inside every face plane, yet the surface wraps twice around
+  // it. Only the winding number tells it from a convex body.
+  std::vector<Vec3> v = {{0, 0, 1}, {0, 0, -1}};
+  for (int i = 0; i < 7; ++i) {
+    const double a = 4 * std::numbers::pi * i / 7;
+    v.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  std::vector<Face> f;
+  for (int i = 0; i < 7; ++i) {
+    const int p = 2 + i, q = 2 + (i + 1) % 7;
+    f.push_back(Face{p, q, 0});
+    f.push_back(Face{q, p, 1});
+  }
+  Body wound(v, f);
+  expect_matches_oracle(wound, "heptagram bipyramid");
+  EXPECT_FALSE(is_convex(wound));
+  EXPECT_NE(certify_convexity(wound), ConvexityCertificate::Convex);
+  // Its edges are all convex: every face's neighbours across an edge lie inside its plane.
+  for (const Edge& e : wound.edges())
+    for (int x : wound.faces()[static_cast<size_t>(e.right_face)].loops[0])
+      EXPECT_NE(wound.face_side(e.left_face, wound.vertices()[static_cast<size_t>(x)]), Sign::Negative);
+}
+
+TEST(IsConvex, FloatRoundedTriangleSphereListsTheSameFacesAsTheDefinition) {
+  // A sphere's triangles with coordinates rounded to float (as binary STL stores them): many
+  // diagonals of the former quadrilaterals become slightly reflex, so the body is not convex,
+  // and the non-convex faces come from the hull-based listing.
+  Body s = sphere({0.1, 0.2, 0.3}, 1, 2e-3);
+  std::vector<Vec3> v;
+  for (const Vec3& p : s.vertices())
+    v.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  std::vector<Face> f;
+  for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
+  Body rounded(v, f);
+  expect_matches_oracle(rounded, "float sphere");
+  EXPECT_FALSE(convexity(rounded).nonconvex_faces.empty());
+}
+
+TEST(IsConvex, FineSphereIsConvex) {
+  Body s = sphere({1, 2, 3}, 2, 2e-5);
+  ASSERT_GT(s.face_count(), 20000);
+  // Settled by the certificate (rounded quadrilaterals split), not by the O(F·V) fallback.
+  EXPECT_EQ(certify_convexity(s), ConvexityCertificate::Convex);
+  EXPECT_EQ(certify_convexity(s.transformed(Transform::rotation({1, 2, 3}, 40))),
+            ConvexityCertificate::Convex);
+  EXPECT_TRUE(convexity(s).convex);
 }
 
 }  // namespace

@@ -42,6 +42,7 @@
 
 // visibility
 #include "hedra/visibility/occlusion.h"
+#include "hedra/visibility/outline.h"
 #include "hedra/visibility/polygon_set.h"
 #include "hedra/visibility/polygon_union.h"
 #include "hedra/visibility/roberts.h"

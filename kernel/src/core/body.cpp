@@ -1,12 +1,12 @@
 #include "hedra/core/body.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <numeric>
 #include <string>
-#include <unordered_map>
 
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
@@ -45,10 +45,6 @@ std::string vec(const Vec3& v) {
 
 std::string str(int i) { return std::to_string(i); }
 
-std::uint64_t key(int a, int b) {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
-         static_cast<std::uint32_t>(b);
-}
 
 // Stage: coordinates.
 void check_vertices(const std::vector<Vec3>& vertices) {
@@ -73,18 +69,19 @@ void check_faces(const std::vector<Face>& faces, size_t vertex_count) {
     if (faces[f].loops.empty()) throw InvalidInput("face " + std::to_string(f) + " is empty");
     for (size_t l = 0; l < faces[f].loops.size(); ++l) {
       const auto& loop = faces[f].loops[l];
-      const std::string where =
-          "face " + std::to_string(f) + (l ? " (hole " + std::to_string(l) + ")" : "");
+      auto where = [&] {  // built only for a message: a string per loop costs more than the check
+        return "face " + std::to_string(f) + (l ? " (hole " + std::to_string(l) + ")" : "");
+      };
       if (loop.size() < 3)
-        throw InvalidInput(where + " has " + std::to_string(loop.size()) +
+        throw InvalidInput(where() + " has " + std::to_string(loop.size()) +
                            " vertices; a face needs at least 3");
       for (int v : loop) {
         if (v < 0 || static_cast<size_t>(v) >= vertex_count)
-          throw InvalidInput(where + " refers to vertex " + std::to_string(v) +
+          throw InvalidInput(where() + " refers to vertex " + std::to_string(v) +
                              ", out of range (the body has " + std::to_string(vertex_count) +
                              " vertices)");
         if (seen[v] == static_cast<int>(f))
-          throw InvalidInput(where + " uses vertex " + std::to_string(v) + " twice");
+          throw InvalidInput(where() + " uses vertex " + std::to_string(v) + " twice");
         seen[v] = static_cast<int>(f);
       }
     }
@@ -96,24 +93,61 @@ void check_faces(const std::vector<Face>& faces, size_t vertex_count) {
 
 // Stage: orientation, closedness, manifold vertices; builds the edge list.
 std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_count) {
-  std::unordered_map<std::uint64_t, int> directed;  // (from, to) -> face
-  std::vector<int> conflicts(faces.size(), 0), sizes(faces.size(), 0);
-  int first_a = -1, first_b = -1, first_f = -1, first_g = -1;
-  for (size_t f = 0; f < faces.size(); ++f) {
+  // Half-edges h in traversal order (face, loop, position), grouped by their start vertex and
+  // sorted by end vertex inside each group (counting sort, then a sort of each small group):
+  // finding a directed edge is a binary search among the edges leaving one vertex. Cost
+  // O(H log d), d the largest vertex degree; no hashing.
+  std::vector<int> from, to, face_of, prev;
+  for (size_t f = 0; f < faces.size(); ++f)
     for (const auto& loop : faces[f].loops) {
-      for (size_t i = 0; i < loop.size(); ++i) {
-        int a = loop[i], b = loop[(i + 1) % loop.size()];
-        ++sizes[f];
-        auto [it, inserted] = directed.emplace(key(a, b), static_cast<int>(f));
-        if (!inserted) {
-          ++conflicts[f];
-          ++conflicts[it->second];
-          if (first_a < 0) { first_a = a; first_b = b; first_f = it->second; first_g = f; }
-        }
+      const int base = static_cast<int>(from.size()), k = static_cast<int>(loop.size());
+      for (int i = 0; i < k; ++i) {
+        from.push_back(loop[static_cast<size_t>(i)]);
+        to.push_back(loop[static_cast<size_t>((i + 1) % k)]);
+        face_of.push_back(static_cast<int>(f));
+        prev.push_back(base + (i + k - 1) % k);
       }
     }
+  const int h_count = static_cast<int>(from.size());
+  std::vector<int> start(vertex_count + 1, 0), order(static_cast<size_t>(h_count));
+  for (int h = 0; h < h_count; ++h) ++start[static_cast<size_t>(from[static_cast<size_t>(h)]) + 1];
+  for (size_t v = 1; v <= vertex_count; ++v) start[v] += start[v - 1];
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int h = 0; h < h_count; ++h)
+      order[static_cast<size_t>(fill[static_cast<size_t>(from[static_cast<size_t>(h)])]++)] = h;
   }
-  if (first_a >= 0) {
+  for (size_t v = 0; v < vertex_count; ++v)  // by end vertex, then traversal order
+    std::sort(order.begin() + start[v], order.begin() + start[v + 1], [&](int x, int y) {
+      return std::tie(to[static_cast<size_t>(x)], x) < std::tie(to[static_cast<size_t>(y)], y);
+    });
+  // The first half-edge a → b in traversal order, or −1.
+  auto find = [&](int a, int b) {
+    auto first = order.begin() + start[static_cast<size_t>(a)];
+    auto last = order.begin() + start[static_cast<size_t>(a) + 1];
+    auto it = std::lower_bound(first, last, b,
+                               [&](int h, int key) { return to[static_cast<size_t>(h)] < key; });
+    return it != last && to[static_cast<size_t>(*it)] == b ? *it : -1;
+  };
+
+  // Repeated directed edges: every later copy conflicts with the first one.
+  std::vector<int> conflicts(faces.size(), 0), sizes(faces.size(), 0);
+  for (int h = 0; h < h_count; ++h) ++sizes[static_cast<size_t>(face_of[static_cast<size_t>(h)])];
+  int first_conflict = -1, first_owner = -1;
+  for (size_t i = 1; i < order.size(); ++i) {
+    const int h = order[i], g = order[i - 1];
+    if (from[static_cast<size_t>(h)] != from[static_cast<size_t>(g)] ||
+        to[static_cast<size_t>(h)] != to[static_cast<size_t>(g)])
+      continue;
+    const int owner = find(from[static_cast<size_t>(h)], to[static_cast<size_t>(h)]);
+    ++conflicts[static_cast<size_t>(face_of[static_cast<size_t>(h)])];
+    ++conflicts[static_cast<size_t>(face_of[static_cast<size_t>(owner)])];
+    if (first_conflict < 0 || h < first_conflict) {
+      first_conflict = h;
+      first_owner = owner;
+    }
+  }
+  if (first_conflict >= 0) {
     // A single flipped face conflicts with its neighbours along all its edges.
     int flipped = -1, count = 0;
     for (size_t f = 0; f < faces.size(); ++f)
@@ -122,25 +156,26 @@ std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_c
       throw InvalidInput("inconsistent orientation: face " + str(flipped) +
                          " is flipped (it runs along every edge in the same direction as its "
                          "neighbours)");
-    throw InvalidInput("inconsistent orientation or non-manifold edge: faces " + str(first_f) +
-                       " and " + str(first_g) + " both run along edge " + str(first_a) + "→" +
-                       str(first_b));
+    throw InvalidInput("inconsistent orientation or non-manifold edge: faces " +
+                       str(face_of[static_cast<size_t>(first_owner)]) + " and " +
+                       str(face_of[static_cast<size_t>(first_conflict)]) + " both run along edge " +
+                       str(from[static_cast<size_t>(first_conflict)]) + "→" +
+                       str(to[static_cast<size_t>(first_conflict)]));
   }
 
+  // Closed: every half-edge has its twin.
   int boundary = 0, bound_a = -1, bound_b = -1;
+  std::vector<int> twin(static_cast<size_t>(h_count));
   std::vector<Edge> edges;
-  edges.reserve(directed.size() / 2);
-  for (size_t f = 0; f < faces.size(); ++f) {
-    for (const auto& loop : faces[f].loops) {
-      for (size_t i = 0; i < loop.size(); ++i) {
-        int a = loop[i], b = loop[(i + 1) % loop.size()];
-        auto it = directed.find(key(b, a));
-        if (it == directed.end()) {
-          if (boundary++ == 0) { bound_a = a; bound_b = b; }
-        } else if (a < b) {
-          edges.push_back({a, b, static_cast<int>(f), it->second});
-        }
-      }
+  edges.reserve(static_cast<size_t>(h_count) / 2);
+  for (int h = 0; h < h_count; ++h) {
+    const int a = from[static_cast<size_t>(h)], b = to[static_cast<size_t>(h)];
+    const int t = find(b, a);
+    twin[static_cast<size_t>(h)] = t;
+    if (t < 0) {
+      if (boundary++ == 0) { bound_a = a; bound_b = b; }
+    } else if (a < b) {
+      edges.push_back({a, b, face_of[static_cast<size_t>(h)], face_of[static_cast<size_t>(t)]});
     }
   }
   if (boundary > 0)
@@ -148,30 +183,18 @@ std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_c
                        (boundary > 1 ? "s" : "") + ", first between vertices " + str(bound_a) +
                        " and " + str(bound_b));
 
-  // Manifold vertices: the corners around each vertex form one cycle. Corner (v; in u→v,
-  // out v→w); the next corner around v is the one whose incoming edge is w→v.
-  std::unordered_map<std::uint64_t, int> out_of;  // (v, w) -> corner id
-  std::vector<std::pair<int, int>> corner_in;     // corner -> (v, u): incoming edge u→v
-  for (const auto& face : faces)
-    for (const auto& loop : face.loops)
-      for (size_t i = 0; i < loop.size(); ++i) {
-        int u = loop[(i + loop.size() - 1) % loop.size()], v = loop[i],
-            w = loop[(i + 1) % loop.size()];
-        out_of.emplace(key(v, w), static_cast<int>(corner_in.size()));
-        corner_in.emplace_back(v, u);
-      }
-  std::vector<int> corners_of(vertex_count, 0), cycles_of(vertex_count, 0);
-  std::vector<char> visited(corner_in.size(), 0);
-  for (size_t c = 0; c < corner_in.size(); ++c) ++corners_of[corner_in[c].first];
-  for (size_t c = 0; c < corner_in.size(); ++c) {
-    if (visited[c]) continue;
-    int v = corner_in[c].first;
-    ++cycles_of[v];
-    size_t k = c;
-    while (!visited[k]) {
-      visited[k] = 1;
-      // The incoming edge u→v of corner k is the outgoing edge v→u of the next corner.
-      k = out_of.at(key(v, corner_in[k].second));
+  // Manifold vertices: the corners around each vertex form one cycle. The corner at the start
+  // of half-edge h (v → w, entered by prev(h) = u → v) is followed around v by the corner of
+  // the twin of prev(h), v → u.
+  std::vector<int> cycles_of(vertex_count, 0);
+  std::vector<char> visited(static_cast<size_t>(h_count), 0);
+  for (int c = 0; c < h_count; ++c) {
+    if (visited[static_cast<size_t>(c)]) continue;
+    ++cycles_of[static_cast<size_t>(from[static_cast<size_t>(c)])];
+    int k = c;
+    while (!visited[static_cast<size_t>(k)]) {
+      visited[static_cast<size_t>(k)] = 1;
+      k = twin[static_cast<size_t>(prev[static_cast<size_t>(k)])];
     }
   }
   for (size_t v = 0; v < vertex_count; ++v)
@@ -267,17 +290,47 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
     }
   }
 
-  // Stage: repeated faces (same vertex set).
+  // Stage: repeated faces (same vertex set). Faces are sorted by a hash of their sorted vertex
+  // set and compared exactly only within equal hashes: O(F log F) on small records.
   {
-    std::map<std::vector<int>, int> seen;
-    for (int f = 0; f < n; ++f) {
+    auto sorted_ids = [&](int f) {
       std::vector<int> ids;
       for (const auto& loop : faces[f].loops) ids.insert(ids.end(), loop.begin(), loop.end());
       std::sort(ids.begin(), ids.end());
-      auto [it, inserted] = seen.emplace(std::move(ids), f);
-      if (!inserted)
-        throw InvalidInput("faces " + str(it->second) + " and " + str(f) +
-                           " have the same vertices (a repeated face)");
+      return ids;
+    };
+    std::vector<std::pair<std::uint64_t, int>> hashes(static_cast<size_t>(n));
+    std::vector<int> ids;
+    for (int f = 0; f < n; ++f) {
+      ids.clear();
+      for (const auto& loop : faces[f].loops) ids.insert(ids.end(), loop.begin(), loop.end());
+      std::sort(ids.begin(), ids.end());
+      std::uint64_t h = 1469598103934665603ull;
+      for (int v : ids) h = (h ^ static_cast<std::uint32_t>(v)) * 1099511628211ull;
+      hashes[static_cast<size_t>(f)] = {h, f};
+    }
+    std::sort(hashes.begin(), hashes.end());
+    // The first face (in order) whose vertex set an earlier face has: the old message's pair.
+    int repeat = -1, original = -1;
+    for (size_t i = 0; i < hashes.size();) {
+      size_t j = i;
+      while (j < hashes.size() && hashes[j].first == hashes[i].first) ++j;
+      for (size_t a = i; a < j; ++a)
+        for (size_t b = a + 1; b < j; ++b) {  // faces in ascending order within a hash
+          const int fa = hashes[a].second, fb = hashes[b].second;
+          if ((repeat < 0 || fb < repeat) && sorted_ids(fa) == sorted_ids(fb)) {
+            repeat = fb;
+            original = fa;
+          }
+        }
+      i = j;
+    }
+    if (repeat >= 0) {
+      // The earliest face with the repeated face's vertex set.
+      for (int f = 0; f < repeat; ++f)
+        if (sorted_ids(f) == sorted_ids(repeat)) { original = f; break; }
+      throw InvalidInput("faces " + str(original) + " and " + str(repeat) +
+                         " have the same vertices (a repeated face)");
     }
   }
 

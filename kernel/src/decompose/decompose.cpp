@@ -326,6 +326,13 @@ std::vector<Piece> merge_pieces(const Context& ctx, std::vector<Piece> pieces, i
 namespace {
 
 Decomposition run(const Body& body, const DecomposeOptions& options, Context& ctx) {
+  if (!options.verify && is_convex(body)) {
+    // Convex input returns at once: O(V + E) (mesh/convexity.h), before the exact pieces.
+    Decomposition out;
+    out.pieces.push_back(body);
+    out.exact_volume = body.volume();
+    return out;
+  }
   Piece whole = piece_of(body, ctx);
   std::vector<Piece> open = components(whole.pts, whole.tris);
   std::vector<Piece> done;
@@ -426,7 +433,7 @@ std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges) {
   std::vector<Piece> exact;
   std::vector<Body> out;
   for (const Body& body : pieces) {
-    if (convexity(body).convex)
+    if (is_convex(body))
       exact.push_back(piece_of(body, ctx));
     else
       out.push_back(body);  // not convex after rounding (CGAL's slivers): left as it is

@@ -8,6 +8,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <numeric>
 #include <unordered_map>
@@ -45,6 +46,47 @@ void add_on(Point& pt, int id) {
 
 // ---- From a body ---------------------------------------------------------------------------
 
+namespace {
+
+constexpr double kNormalCell = 1e-3;
+
+std::uint64_t normal_key(long ix, long iy, long iz) {
+  auto u = [](long i) { return static_cast<std::uint64_t>(i + 4096) & 0x1fffff; };
+  return (u(ix) << 42) | (u(iy) << 21) | u(iz);
+}
+
+long normal_cell(double x) { return static_cast<long>(std::floor(x / kNormalCell)); }
+
+// The planes met before whose unit normal lies within `eps` (per component) of n or −n,
+// ascending; every plane when eps is not small against the cells.
+std::vector<int> planes_near(Context& ctx, const Vec3& n, double eps) {
+  for (; ctx.indexed < ctx.approx.size(); ++ctx.indexed) {
+    const Vec3 m = ctx.approx[ctx.indexed].normal();
+    ctx.normal_cells[normal_key(normal_cell(m.x()), normal_cell(m.y()), normal_cell(m.z()))]
+        .push_back(static_cast<int>(ctx.indexed));
+  }
+  std::vector<int> out;
+  if (!(eps < kNormalCell / 4)) {
+    out.resize(ctx.approx.size());
+    std::iota(out.begin(), out.end(), 0);
+    return out;
+  }
+  for (double sign : {1.0, -1.0}) {
+    const Vec3 m = sign * n;
+    for (long ix = normal_cell(m.x() - eps); ix <= normal_cell(m.x() + eps); ++ix)
+      for (long iy = normal_cell(m.y() - eps); iy <= normal_cell(m.y() + eps); ++iy)
+        for (long iz = normal_cell(m.z() - eps); iz <= normal_cell(m.z() + eps); ++iz) {
+          auto it = ctx.normal_cells.find(normal_key(ix, iy, iz));
+          if (it != ctx.normal_cells.end()) out.insert(out.end(), it->second.begin(), it->second.end());
+        }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+}  // namespace
+
 // Groups the body's faces into canonical planes (coincident within the rounding guard) and
 // builds the exact piece of the whole body.
 Piece piece_of(const Body& body, Context& ctx) {
@@ -53,7 +95,17 @@ Piece piece_of(const Body& body, Context& ctx) {
   std::vector<int> group(body.face_count(), -1), sign(body.face_count(), 1);
   for (int f = 0; f < body.face_count(); ++f) {
     const Plane outward = body.plane(f).flipped();
-    for (size_t g = 0; g < ctx.approx.size() && group[f] < 0; ++g) {
+    // A plane that has the face's support triangle within the guard turns from the face's
+    // normal by at most about 2·guard over the triangle's smallest height (4× for the face's
+    // Newell normal and rounding): only planes with such normals can match. O(F) candidates
+    // in all instead of O(F²) for bodies with many plane directions.
+    const auto& t = body.support(f);
+    const Vec3 &ta = v[t[0]], &tb = v[t[1]], &tc = v[t[2]];
+    const double longest = std::max({(tb - ta).norm(), (tc - tb).norm(), (ta - tc).norm()});
+    const double height = (tb - ta).cross(tc - ta).norm() / longest;
+    const double eps = 8 * ctx.guard / height + 1e-9;
+    for (int g : planes_near(ctx, outward.normal(), eps)) {
+      if (group[f] >= 0) break;
       // A plane met before, from either side (pieces of merge_convex meet from both).
       const double dot = ctx.approx[g].normal().dot(outward.normal());
       if (std::abs(dot) < 0.5) continue;

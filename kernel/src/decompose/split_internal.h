@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "hedra/core/body.h"
@@ -26,6 +27,10 @@ struct Context {
   // computed in double; no symbolic incidence. Kept for the speed–accuracy comparison.
   bool floating = false;
   double epsilon = 0;  // absolute, in world units
+  // Index of `approx` by unit normal (cells of kNormalCell, filled lazily up to `indexed`), so
+  // that piece_of() finds a face's plane among the planes met before without scanning them all.
+  std::unordered_map<std::uint64_t, std::vector<int>> normal_cells;
+  size_t indexed = 0;
 };
 
 struct Point {

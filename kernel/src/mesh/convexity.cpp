@@ -1,5 +1,12 @@
 #include "hedra/mesh/convexity.h"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Mpzf.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/convex_hull_3.h>
+
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -20,24 +27,450 @@ std::vector<char> on_face_mask(size_t vertex_count, const Face& face) {
 
 }  // namespace
 
-ConvexityReport convexity(const Body& body) {
-  ConvexityReport report;
-  const auto& vertices = body.vertices();
-  for (int f = 0; f < body.face_count(); ++f) {
-    std::vector<char> on = on_face_mask(vertices.size(), body.faces()[f]);
-    for (size_t v = 0; v < vertices.size(); ++v) {
-      if (on[v]) continue;
-      if (body.face_side(f, vertices[v]) == Sign::Negative) {
-        report.nonconvex_faces.push_back(f);
+namespace {
+
+enum class Verdict { Convex, NotConvex, Unknown };
+
+// A planar piece of the certified surface: a planar face (face >= 0, plane through its support
+// triple) or one triangle of a quadrilateral whose rounded vertices are not coplanar.
+struct Piece {
+  std::array<int, 3> triple;
+  int face;
+  bool triangle;  // the piece is exactly its triple
+};
+
+// orient3d with a static filter first: the sign of the double determinant when it exceeds
+// Shewchuk's error bound for orient3d ((7 + 56ε)ε times the permanent; 1e-14 leaves a wide
+// margin), the exact predicate otherwise. Most calls here are far from degenerate.
+Sign orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
+               m2 = v.x() * w.y() - v.y() * w.x();
+  const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
+  const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
+                           std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
+                           std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
+  if (permanent > 1e-250 && permanent < 1e250) {
+    const double bound = 1e-14 * permanent;
+    if (det > bound) return Sign::Positive;
+    if (det < -bound) return Sign::Negative;
+  }
+  return orient3d(a, b, c, d);
+}
+
+// The exact 2D orientation of a, b, c projected along coordinate axis `drop`.
+Sign orient_projected(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
+  const int i = (drop + 1) % 3, j = (drop + 2) % 3;
+  return orient2d(Vec2(a[i], a[j]), Vec2(b[i], b[j]), Vec2(c[i], c[j]));
+}
+
+int dominant_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
+  Vec3 n = (b - a).cross(c - a);
+  int axis = 0;
+  n.cwiseAbs().maxCoeff(&axis);
+  return axis;
+}
+
+// The convexity certificate of is_convex() (see the header). Exact in every decision but the
+// winding number, an integer read from a floating-point sum whose error is bounded explicitly.
+class Certificate {
+ public:
+  explicit Certificate(const Body& body) : body_(body), v_(body.vertices()), faces_(body.faces()) {}
+
+  Verdict run() {
+    // Stage 1: the pieces. Exactly planar faces are one piece; a rounded quadrilateral is
+    // split along the diagonal that makes it convex; anything else is left to the fallback.
+    const int n = body_.face_count();
+    first_piece_.assign(static_cast<size_t>(n), -1);
+    split_.assign(static_cast<size_t>(n), 0);
+    for (int f = 0; f < n; ++f) {
+      const Face& face = faces_[static_cast<size_t>(f)];
+      const auto& s = body_.support(f);
+      first_piece_[static_cast<size_t>(f)] = static_cast<int>(pieces_.size());
+      if (planar(face, s)) {
+        pieces_.push_back({s, f, face.loops.size() == 1 && face.loops[0].size() == 3});
+        continue;
+      }
+      if (face.loops.size() != 1 || face.loops[0].size() != 4) return Verdict::Unknown;
+      const auto& q = face.loops[0];
+      // Diagonal q0–q2 is convex when q3 is strictly inside plane (q0, q1, q2); else try q1–q3.
+      if (orient(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
+        split_[static_cast<size_t>(f)] = 1;
+        pieces_.push_back({{q[0], q[1], q[2]}, f, true});
+        pieces_.push_back({{q[0], q[2], q[3]}, f, true});
+      } else if (orient(p(q[0]), p(q[1]), p(q[3]), p(q[2])) == Sign::Negative) {
+        split_[static_cast<size_t>(f)] = 2;
+        pieces_.push_back({{q[0], q[1], q[3]}, f, true});
+        pieces_.push_back({{q[1], q[2], q[3]}, f, true});
+      } else {
+        return Verdict::Unknown;
+      }
+      for (size_t k = pieces_.size() - 2; k < pieces_.size(); ++k) {
+        const auto& t = pieces_[k].triple;
+        if (collinear(p(t[0]), p(t[1]), p(t[2]))) return Verdict::Unknown;
+      }
+      rounded_.push_back(f);
+    }
+
+    // Stage 2: local convexity at every edge between pieces. Quadrilateral diagonals are
+    // convex by construction; the body's edges are tested here.
+    for (const Edge& e : body_.edges()) {
+      if (e.left_face == e.right_face) return Verdict::Unknown;
+      const Piece& f1 = pieces_[static_cast<size_t>(piece_of(e.left_face, e.v0, e.v1))];
+      const Piece& g1 = pieces_[static_cast<size_t>(piece_of(e.right_face, e.v1, e.v0))];
+      int w = -1;
+      bool left = true;
+      if (!witness(g1, e.v1, e.v0, w, left)) return Verdict::Unknown;
+      Sign side = orient(p(f1.triple[0]), p(f1.triple[1]), p(f1.triple[2]), p(w));
+      if (!left) side = -side;
+      if (side == Sign::Positive) return reflex(e.left_face, e.right_face);
+      if (side == Sign::Zero && !same_orientation(f1, g1)) return Verdict::Unknown;  // folded
+    }
+
+    // Stage 3: a centre strictly inside every piece's plane.
+    Vec3 sum = Vec3::Zero();
+    for (const Vec3& x : v_) sum += x;
+    const Vec3 o = sum / static_cast<double>(v_.size());
+    for (const Piece& piece : pieces_)
+      if (orient(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
+        return Verdict::Unknown;
+
+    // Stage 4: the surface winds once around o.
+    if (!winds_once(o)) return Verdict::Unknown;
+
+    // Stage 5: the surface is convex. A planar face's support plane is a piece plane, so no
+    // vertex lies outside it. A rounded quadrilateral's support plane (a, b, c) is not: check
+    // it by a local search (see rounded_face_convex).
+    if (!rounded_.empty()) {
+      build_incidence();
+      for (int f : rounded_)
+        if (!rounded_face_convex(f)) return Verdict::NotConvex;
+    }
+    return Verdict::Convex;
+  }
+
+ private:
+  const Vec3& p(int i) const { return v_[static_cast<size_t>(i)]; }
+
+  bool planar(const Face& face, const std::array<int, 3>& s) const {
+    if (face.loops.size() == 1 && face.loops[0].size() == 3) return true;
+    for (const auto& loop : face.loops)
+      for (int x : loop)
+        if (x != s[0] && x != s[1] && x != s[2] &&
+            orient(p(s[0]), p(s[1]), p(s[2]), p(x)) != Sign::Zero)
+          return false;
+    return true;
+  }
+
+  // The piece of face f that carries the directed boundary edge a → b.
+  int piece_of(int f, int a, int b) const {
+    const int first = first_piece_[static_cast<size_t>(f)];
+    const int split = split_[static_cast<size_t>(f)];
+    if (!split) return first;
+    const auto& q = faces_[static_cast<size_t>(f)].loops[0];
+    int i = 0;
+    while (q[static_cast<size_t>(i)] != a) ++i;
+    (void)b;
+    // Split 1 (diagonal q0–q2): edges q0q1, q1q2 in the first triangle. Split 2 (q1–q3):
+    // edges q0q1, q3q0 in the first triangle.
+    if (split == 1) return first + (i <= 1 ? 0 : 1);
+    return first + (i == 0 || i == 3 ? 0 : 1);
+  }
+
+  // A vertex w of piece g off the line of its edge b → a, and whether w lies on the piece's
+  // side of that edge (left of b → a seen from outside).
+  bool witness(const Piece& g, int b, int a, int& w, bool& left) const {
+    if (g.triangle) {
+      for (int x : g.triple)
+        if (x != a && x != b) w = x;
+      left = true;
+      return w >= 0;
+    }
+    const auto& t = g.triple;
+    for (int x : t)
+      if (x != a && x != b && !collinear(p(a), p(b), p(x))) {
+        w = x;
         break;
       }
-    }
+    if (w < 0) return false;
+    const int axis = dominant_axis(p(t[0]), p(t[1]), p(t[2]));
+    const Sign ref = orient_projected(p(t[0]), p(t[1]), p(t[2]), axis);
+    const Sign side = orient_projected(p(b), p(a), p(w), axis);
+    if (ref == Sign::Zero || side == Sign::Zero) return false;
+    left = side == ref;
+    return true;
   }
+
+  // Coplanar pieces on either side of an edge: flat (same outward normal) or folded back.
+  bool same_orientation(const Piece& f, const Piece& g) const {
+    const auto &a = f.triple, &b = g.triple;
+    const int axis = dominant_axis(p(a[0]), p(a[1]), p(a[2]));
+    const Sign sa = orient_projected(p(a[0]), p(a[1]), p(a[2]), axis);
+    const Sign sb = orient_projected(p(b[0]), p(b[1]), p(b[2]), axis);
+    return sa != Sign::Zero && sa == sb;
+  }
+
+  // A strictly reflex edge between faces f and g: some vertex of g not on f lies strictly
+  // outside f's support plane (then f is a non-convex face by definition), or the edge lies
+  // on a rounded face and the fallback decides.
+  Verdict reflex(int f, int g) const {
+    const auto& s = body_.support(f);
+    const Face& ff = faces_[static_cast<size_t>(f)];
+    auto on_f = [&](int x) {
+      for (const auto& loop : ff.loops)
+        for (int y : loop)
+          if (y == x) return true;
+      return false;
+    };
+    for (const auto& loop : faces_[static_cast<size_t>(g)].loops)
+      for (int x : loop)
+        if (orient(p(s[0]), p(s[1]), p(s[2]), p(x)) == Sign::Positive && !on_f(x))
+          return Verdict::NotConvex;
+    return Verdict::Unknown;
+  }
+
+  // Total signed solid angle of the surface seen from o, in units of 4π, is 1. Each triangle
+  // (of a piece, or of a fan over a face loop) contributes 2·atan2(|det|, d) (Van Oosterom and
+  // Strackee 1983) with the sign of the exact orient3d, so that o close to a face plane cannot
+  // flip a term from +2π to −2π. The error of each term is bounded from the rounding of det
+  // and d; the integer is accepted only when the bound leaves no doubt.
+  bool winds_once(const Vec3& o) const {
+    constexpr double kPi = 3.14159265358979323846;
+    double total = 0, error = 0;
+    auto add = [&](int ia, int ib, int ic) {
+      const Sign s = orient(p(ia), p(ib), p(ic), o);
+      if (s == Sign::Zero) return true;  // a fan triangle over collinear vertices
+      const Vec3 a = p(ia) - o, b = p(ib) - o, c = p(ic) - o;
+      const double la = a.norm(), lb = b.norm(), lc = c.norm();
+      const double det = a.dot(b.cross(c));
+      const double d = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+      // |det − exact| and |d − exact| ≤ 32ε·la·lb·lc (three roundings of the differences, a
+      // handful in the products and sums), so atan2 moves by at most their sum over the radius.
+      const double slack = 64 * kEpsilon * la * lb * lc;
+      const double r = std::sqrt(det * det + d * d);
+      if (!(r > 4 * slack)) return false;
+      const double omega = 2 * std::atan2(std::abs(det), d);
+      total += s == Sign::Negative ? omega : -omega;
+      error += 2 * slack / (r - slack) + 8 * kEpsilon;
+      return true;
+    };
+    for (const Piece& piece : pieces_) {
+      if (piece.triangle) {
+        if (!add(piece.triple[0], piece.triple[1], piece.triple[2])) return false;
+        continue;
+      }
+      for (const auto& loop : faces_[static_cast<size_t>(piece.face)].loops)
+        for (size_t i = 1; i + 1 < loop.size(); ++i)
+          if (!add(loop[0], loop[i], loop[i + 1])) return false;
+    }
+    return std::abs(total - 4 * kPi) + error < 2 * kPi;
+  }
+
+  void build_incidence() {
+    start_.assign(v_.size() + 1, 0);
+    for (const Face& face : faces_)
+      for (const auto& loop : face.loops)
+        for (int x : loop) ++start_[static_cast<size_t>(x) + 1];
+    for (size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+    incident_.resize(static_cast<size_t>(start_.back()));
+    std::vector<int> fill(start_.begin(), start_.end() - 1);
+    for (size_t f = 0; f < faces_.size(); ++f)
+      for (const auto& loop : faces_[f].loops)
+        for (int x : loop) incident_[static_cast<size_t>(fill[static_cast<size_t>(x)]++)] = static_cast<int>(f);
+  }
+
+  // Face f's support plane h (through a, b, c) against the vertices not on f, given that the
+  // surface is convex (K its solid). φ = the side of h. If some vertex not on f had φ > 0, the
+  // vertices with φ > 0 would form a set connected through shared faces (on a convex surface,
+  // a vertex that is not a maximum of a linear function has a neighbour across a face with a
+  // larger value, and the maxima form a face of K), so either it contains a vertex of f with
+  // φ > 0 and a face-neighbour of it off f, or it contains none and a (φ = 0, not a maximum)
+  // has such a neighbour. Checking the faces around a and around f's vertices with φ > 0
+  // decides. Cost O(size of those stars).
+  bool rounded_face_convex(int f) const {
+    const auto& s = body_.support(f);
+    const auto& q = faces_[static_cast<size_t>(f)].loops[0];
+    auto phi = [&](int x) { return orient(p(s[0]), p(s[1]), p(s[2]), p(x)); };
+    auto on_f = [&](int x) { return x == q[0] || x == q[1] || x == q[2] || x == q[3]; };
+    auto star = [&](int x) {
+      for (int i = start_[static_cast<size_t>(x)]; i < start_[static_cast<size_t>(x) + 1]; ++i)
+        for (const auto& loop : faces_[static_cast<size_t>(incident_[static_cast<size_t>(i)])].loops)
+          for (int y : loop)
+            if (!on_f(y) && phi(y) == Sign::Positive) return false;
+      return true;
+    };
+    // The support vertex with the smallest star.
+    int a = s[0];
+    for (int x : s)
+      if (start_[static_cast<size_t>(x) + 1] - start_[static_cast<size_t>(x)] <
+          start_[static_cast<size_t>(a) + 1] - start_[static_cast<size_t>(a)])
+        a = x;
+    if (!star(a)) return false;
+    for (int x : q)
+      if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive && !star(x)) return false;
+    return true;
+  }
+
+  const Body& body_;
+  const std::vector<Vec3>& v_;
+  const std::vector<Face>& faces_;
+  std::vector<Piece> pieces_;
+  std::vector<int> first_piece_;
+  std::vector<char> split_;
+  std::vector<int> rounded_;
+  std::vector<int> start_, incident_;
+};
+
+// Exact sign of n·(w − u), n = (b − a) × (c − a): which of w and u lies farther along the
+// outer normal of plane (a, b, c). A static filter, then Mpzf (exact for sums and products of
+// doubles).
+Sign compare_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w, const Vec3& u) {
+  const Vec3 x = b - a, y = c - a, z = w - u;
+  const double det = x.dot(y.cross(z));
+  const double permanent = std::abs(x.x()) * (std::abs(y.y() * z.z()) + std::abs(y.z() * z.y())) +
+                           std::abs(x.y()) * (std::abs(y.z() * z.x()) + std::abs(y.x() * z.z())) +
+                           std::abs(x.z()) * (std::abs(y.x() * z.y()) + std::abs(y.y() * z.x()));
+  if (permanent > 1e-250 && permanent < 1e250) {
+    const double bound = 1e-14 * permanent;
+    if (det > bound) return Sign::Positive;
+    if (det < -bound) return Sign::Negative;
+  }
+  using M = CGAL::Mpzf;
+  auto d = [](double p, double q) { return M(p) - M(q); };
+  const M x0 = d(b.x(), a.x()), x1 = d(b.y(), a.y()), x2 = d(b.z(), a.z());
+  const M y0 = d(c.x(), a.x()), y1 = d(c.y(), a.y()), y2 = d(c.z(), a.z());
+  const M z0 = d(w.x(), u.x()), z1 = d(w.y(), u.y()), z2 = d(w.z(), u.z());
+  const M e = x0 * (y1 * z2 - y2 * z1) + x1 * (y2 * z0 - y0 * z2) + x2 * (y0 * z1 - y1 * z0);
+  const int sign = CGAL::sign(e);
+  return sign > 0 ? Sign::Positive : (sign < 0 ? Sign::Negative : Sign::Zero);
+}
+
+// The non-convex faces, by the definition, through the convex hull of the vertices: a linear
+// function's maximum over the vertices is reached at a hull vertex, and on a convex polytope a
+// vertex no neighbour of which is higher is a maximum. So for a face whose vertices all lie on
+// its support plane, "some vertex not on f is strictly outside" means "the hull's highest
+// vertex along f's outer normal is strictly outside": from a support vertex of f on the hull,
+// look at its hull neighbours; otherwise climb the hull graph with exact comparisons. A face
+// with a vertex of its own strictly outside its plane (rounded) is checked against every vertex.
+// Cost O(V log V) for the hull, then O(hull degree) per face with a vertex on the hull.
+std::vector<int> nonconvex_faces_by_hull(const Body& body) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Mesh = CGAL::Surface_mesh<K::Point_3>;
+  const auto& v = body.vertices();
+  const int n = body.vertex_count();
+  std::vector<int> by_position(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) by_position[static_cast<size_t>(i)] = i;
+  auto less = [&](int i, int j) {
+    const Vec3 &p = v[static_cast<size_t>(i)], &q = v[static_cast<size_t>(j)];
+    return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
+  };
+  std::sort(by_position.begin(), by_position.end(), less);
+  std::vector<K::Point_3> points;
+  points.reserve(v.size());
+  for (const Vec3& p : v) points.emplace_back(p.x(), p.y(), p.z());
+  Mesh hull;
+  CGAL::convex_hull_3(points.begin(), points.end(), hull);
+  // Hull graph on body vertex indices (CSR); hull_id[i] >= 0 for hull vertices.
+  std::vector<int> hull_id(v.size(), -1), body_id;
+  for (auto hv : hull.vertices()) {
+    const K::Point_3& q = hull.point(hv);
+    const Vec3 p(q.x(), q.y(), q.z());
+    auto it = std::lower_bound(by_position.begin(), by_position.end(), -1, [&](int i, int) {
+      const Vec3& r = v[static_cast<size_t>(i)];
+      return std::tie(r.x(), r.y(), r.z()) < std::tie(p.x(), p.y(), p.z());
+    });
+    hull_id[static_cast<size_t>(*it)] = static_cast<int>(hv.idx());
+  }
+  size_t hull_size = 0;
+  for (auto hv : hull.vertices()) hull_size = std::max(hull_size, static_cast<size_t>(hv.idx()) + 1);
+  body_id.assign(hull_size, -1);
+  for (int i = 0; i < n; ++i)
+    if (hull_id[static_cast<size_t>(i)] >= 0) body_id[static_cast<size_t>(hull_id[static_cast<size_t>(i)])] = i;
+  std::vector<std::vector<int>> neighbours(hull_size);
+  for (auto hv : hull.vertices())
+    for (auto w : CGAL::vertices_around_target(hull.halfedge(hv), hull))
+      neighbours[hv.idx()].push_back(body_id[w.idx()]);
+
+  std::vector<int> out;
+  std::vector<int> stamp(v.size(), -1);
+  int top = -1;
+  for (int i = 0; i < n && top < 0; ++i)
+    if (hull_id[static_cast<size_t>(i)] >= 0) top = i;  // last maximum found: a good start for the next
+  for (int f = 0; f < body.face_count(); ++f) {
+    const auto& s = body.support(f);
+    const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
+               &c = v[static_cast<size_t>(s[2])];
+    auto phi = [&](int x) { return orient(a, b, c, v[static_cast<size_t>(x)]); };
+    bool own_outside = false;
+    for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
+      for (int x : loop) {
+        stamp[static_cast<size_t>(x)] = f;
+        if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive) own_outside = true;
+      }
+    bool outside = false;
+    if (own_outside) {
+      for (int x = 0; x < n && !outside; ++x)
+        outside = stamp[static_cast<size_t>(x)] != f && phi(x) == Sign::Positive;
+    } else {
+      // Every vertex of f is on or inside its plane, so a vertex strictly outside is not on f.
+      int start = -1;
+      for (int x : s)
+        if (hull_id[static_cast<size_t>(x)] >= 0) start = x;
+      if (start >= 0) {
+        for (int w : neighbours[static_cast<size_t>(hull_id[static_cast<size_t>(start)])])
+          if (phi(w) == Sign::Positive) { outside = true; break; }
+      } else {
+        int u = top;
+        for (bool moved = true; moved;) {
+          moved = false;
+          for (int w : neighbours[static_cast<size_t>(hull_id[static_cast<size_t>(u)])])
+            if (compare_along(a, b, c, v[static_cast<size_t>(w)], v[static_cast<size_t>(u)]) ==
+                Sign::Positive) {
+              u = w;
+              moved = true;
+              break;
+            }
+        }
+        top = u;
+        outside = phi(u) == Sign::Positive;
+      }
+    }
+    if (outside) out.push_back(f);
+  }
+  return out;
+}
+
+}  // namespace
+
+ConvexityCertificate certify_convexity(const Body& body) {
+  switch (Certificate(body).run()) {
+    case Verdict::Convex: return ConvexityCertificate::Convex;
+    case Verdict::NotConvex: return ConvexityCertificate::NotConvex;
+    case Verdict::Unknown: break;
+  }
+  return ConvexityCertificate::Undecided;
+}
+
+bool is_convex(const Body& body) {
+  switch (Certificate(body).run()) {
+    case Verdict::Convex: return true;
+    case Verdict::NotConvex: return false;
+    case Verdict::Unknown: break;
+  }
+  return nonconvex_faces_by_hull(body).empty();
+}
+
+ConvexityReport convexity(const Body& body) {
+  ConvexityReport report;
+  const Verdict verdict = Certificate(body).run();
+  if (verdict == Verdict::Convex) {
+    report.convex = true;
+    return report;
+  }
+  report.nonconvex_faces = nonconvex_faces_by_hull(body);
   report.convex = report.nonconvex_faces.empty();
   return report;
 }
-
-bool is_convex(const Body& body) { return convexity(body).convex; }
 
 ConvexityReport convexity(const std::vector<Vec3>& vertices, const std::vector<Face>& faces) {
   ConvexityReport report;

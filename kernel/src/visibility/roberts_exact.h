@@ -55,10 +55,10 @@ std::vector<std::pair<double, double>> visible_parts_exact(const Vec3& p1, const
 std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
     std::span<const ExactPlane> planes, const Viewpoint& view, const Vec3& p1, const Vec3& p2);
 
-/// The visible parts of the junction lines of two bodies A and B: the closure of the points
-/// lying in the relative interior of a face of A and of a face of B whose planes cross. End
-/// points (crossings of edges with face planes: the course's penetration points) are exact
-/// homogeneous points; visibility is decided by `query`'s candidates as in
+/// The visible parts of the junction lines of two bodies A and B: the closure of the points lying
+/// in the relative interior of a face of A and of a face of B whose planes cross. End points
+/// (crossings of edges with face planes: the course's penetration points, docs/algorithms.md §6.5)
+/// are exact homogeneous points; visibility is decided by `query`'s candidates as in
 /// visible_parts_exact. `found` counts junction segments before visibility.
 struct JunctionPart {
   Vec3 a, b;

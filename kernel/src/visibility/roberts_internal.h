@@ -24,8 +24,8 @@ using TInterval = std::pair<double, double>;
 
 class PictureGrid {
  public:
-  // Cells about the mean size of the boxes (the course's N1·N2 cells of about an edge's
-  // length), at most 4 per box.
+  // Cells about the mean size of the boxes (docs/algorithms.md §6.7: the course's N1·N2 cells of
+  // about an edge's length), at most 4 per box.
   void build(const std::vector<Eigen::AlignedBox2d>& boxes, const Eigen::AlignedBox2d& extent) {
     origin_ = extent.min();
     const Vec2 size = extent.sizes().cwiseMax(1e-300);

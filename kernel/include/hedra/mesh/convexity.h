@@ -17,13 +17,44 @@ struct ConvexityReport {
   std::vector<int> nonconvex_faces;
 };
 
-/// Exact test, the "equivalent formulation" of the course: evaluate each face's plane at
-/// every vertex not on the face through the exact predicate layer (Body::face_side).
-/// Cost O(F·V).
-ConvexityReport convexity(const Body& body);
-
-/// convexity(body).convex: the one convexity test of hedra's visibility passes.
+/// Whether the body is convex in the sense of the course's definition: no vertex lies strictly
+/// on the outer side of the supporting plane (Body::support) of a face it is not on. Exact.
+///
+/// Decided from a certificate in O(V + E) exact predicates (Mehlhorn et al., "Checking
+/// geometric programs or verification of geometric structures", CGTA 1999, §5): (1) every
+/// edge is locally convex (the dihedral sign from orient3d of one face's support triple and a
+/// vertex of the neighbour on the neighbour's side of the edge; coplanar neighbours must not
+/// fold back); (2) a centre point o lies strictly on the inner side of every face plane;
+/// (3) the surface winds exactly once around o (its total signed solid angle seen from o is
+/// 4π: the central projection from o is then a bijection onto the sphere of directions,
+/// which rules out surfaces that are locally convex but wound twice around o). Then the
+/// solid is star-shaped about o and locally convex everywhere, hence convex (Tietze–Nakajima).
+/// Faces rounded off their plane (a rotated body, a tessellated sphere) are checked as two
+/// triangles (quadrilaterals) plus a local search that relates the face's support plane to the
+/// convex surface. A strictly reflex edge proves non-convexity at once. Cases the certificate
+/// does not settle (rounded faces of five or more vertices, a centre on a face plane, folded
+/// coplanar faces) fall back to the definition evaluated through the convex hull (see
+/// convexity()), so the answer is always exact.
+/// Cost O(V + E) when certified; O(V log V + Σ hull degrees) in the fallback, plus O(V) per
+/// face with a rounded vertex of its own outside its plane.
+/// The one convexity test of hedra's visibility passes (hidden lines, shadows).
 bool is_convex(const Body& body);
+
+/// What the O(V + E) certificate of is_convex() alone settles.
+enum class ConvexityCertificate { Convex, NotConvex, Undecided };
+
+/// The certificate of is_convex() without the fallback: Convex and NotConvex are exact
+/// verdicts; Undecided leaves the body to the definition. Cost O(V + E).
+ConvexityCertificate certify_convexity(const Body& body);
+
+/// Exact test with the list of non-convex faces: the verdict of is_convex(); when the body is
+/// not convex, the faces some vertex not on them lies strictly outside of, found through the
+/// exact convex hull of the vertices (CGAL convex_hull_3): the highest vertex along a face's
+/// outer normal is a hull vertex, and a hull vertex none of whose hull neighbours is higher is
+/// the highest (hill climbing with exact comparisons where the face has no vertex on the hull).
+/// Cost O(V + E) for a convex body; O(V log V) plus the hull degree of a support vertex per
+/// face (a climb where none is on the hull) for a non-convex one.
+ConvexityReport convexity(const Body& body);
 
 /// The same exact test on raw, unvalidated data (so flat input can be reported as flat).
 /// Faces use their outer loop. \pre indices in range; loops of at least 3 vertices.
