@@ -69,7 +69,11 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
     normals[p] = newell_normal(v, polys[p]);
     supports[p] = normals[p].isZero() ? std::array<int, 3>{-1, -1, -1}
                                       : support_triple(v, polys[p], normals[p]);
-    if (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]]))
+    // With caller-given planes (exact pieces rounded to double), a triangle that rounding made
+    // flat is still a known part of its plane's region and vanishes in the merged face; only
+    // the faces built in the end must have area (Body checks them).
+    if (!plane_ids &&
+        (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]])))
       throw InvalidInput("polygon " + std::to_string(p) + " has zero area");
   }
   std::unordered_map<std::uint64_t, int> owner;  // directed edge -> polygon
