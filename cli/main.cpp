@@ -31,17 +31,11 @@ int main(int argc, char** argv) {
 
   std::string info_file;
   bool info_json = false, info_matrix = false;
-  double coplanar_tolerance = 0, planarity_tolerance = -1;
+  double tolerance = 0;
   CLI::App* info = app.add_subcommand("info", "Report the bodies of a scene (.json) or mesh file (OFF, OBJ, STL, PLY)");
   info->add_option("file", info_file, "mesh file")->required();
   info->add_flag("--json", info_json, "print JSON instead of a table");
   info->add_flag("--matrix", info_matrix, "print the body matrix of every body");
-  for (CLI::App* sub : {info}) {
-    sub->add_option("--coplanar-tol", coplanar_tolerance,
-                    "merge neighbouring faces within this distance of one plane (default: exact)");
-    sub->add_option("--planarity-tol", planarity_tolerance,
-                    "accept faces this far from planar (default: exact up to rounding)");
-  }
 
   std::string convert_in, convert_out;
   bool stl_ascii = false;
@@ -49,8 +43,6 @@ int main(int argc, char** argv) {
   convert->add_option("in", convert_in, "input mesh")->required();
   convert->add_option("out", convert_out, "output mesh (format from its extension)")->required();
   convert->add_flag("--stl-ascii", stl_ascii, "write ASCII STL instead of binary");
-  convert->add_option("--coplanar-tol", coplanar_tolerance, "merge tolerance (default: exact)");
-  convert->add_option("--planarity-tol", planarity_tolerance, "planarity tolerance");
 
   hedra::cli::DecomposeCommand dec;
   CLI::App* decompose = app.add_subcommand(
@@ -77,6 +69,15 @@ int main(int argc, char** argv) {
 
   CLI::App* demo = app.add_subcommand("demo", "Build the embedded demo scene and report on it");
 
+  // One modeling tolerance for every command that reads bodies (--coplanar-tol and
+  // --planarity-tol are its old names).
+  for (CLI::App* sub : {info, convert, decompose, clip, hlr, render, shadows})
+    sub->add_option("--tolerance,--coplanar-tol,--planarity-tol", tolerance,
+                    "merge nearly coplanar neighbouring faces of meshes read into planar faces, "
+                    "moving no vertex by more than D (default 0: exact)")
+        ->check(CLI::NonNegativeNumber)
+        ->option_text("D");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -84,9 +85,19 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : kExitUsage;
   }
 
+  hedra::cli::set_import_tolerance(tolerance);
   try {
     if (*info) {
-      auto bodies = hedra::cli::load_bodies(info_file, coplanar_tolerance, planarity_tolerance);
+      std::vector<hedra::cli::NamedBody> bodies;
+      try {
+        bodies = hedra::cli::load_bodies(info_file);
+      } catch (const hedra::InvalidInput&) {
+        // An open surface is reported as such; any other problem is the error it is.
+        const auto open = hedra::cli::open_surface(info_file);
+        if (!open) throw;
+        hedra::cli::print_open_surface(std::cout, *open, info_json);
+        return 0;
+      }
       if (info_json)
         std::cout << hedra::cli::info_json(bodies, info_matrix).dump(2) << "\n";
       else
@@ -94,7 +105,7 @@ int main(int argc, char** argv) {
     } else if (*convert) {
       const bool to_scene = hedra::io::is_scene_path(convert_out);
       if (!to_scene) hedra::io::format_of(convert_out);  // reject an unknown format before reading
-      auto named = hedra::cli::load_bodies(convert_in, coplanar_tolerance, planarity_tolerance);
+      auto named = hedra::cli::load_bodies(convert_in);
       std::vector<hedra::Body> bodies;
       for (const auto& nb : named) bodies.push_back(nb.body);
       if (to_scene) {

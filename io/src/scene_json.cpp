@@ -31,13 +31,19 @@ std::string join(std::initializer_list<const char*> words) {
 
 class SceneReader {
  public:
-  SceneReader(std::string path) : path_(std::move(path)) {}
+  SceneReader(std::string path, double tolerance) : path_(std::move(path)) {
+    mesh_options_.merge.coplanar_tolerance = tolerance;
+  }
 
   Scene read(const JsonValue& root) {
     if (root.kind != Kind::Object) fail(root, "a scene file holds a JSON object");
-    allow(root, {"version", "bodies", "camera", "lights", "image"});
+    allow(root, {"version", "tolerance", "bodies", "camera", "lights", "image"});
     if (const JsonValue* v = root.find("version"))
       if (integer(*v, "'version'") != 1) fail(*v, "unsupported version (this reader knows 1)");
+    // Mesh import tolerance (MergeOptions::coplanar_tolerance); the command's --tolerance wins.
+    if (const JsonValue* t = root.find("tolerance"))
+      if (!(mesh_options_.merge.coplanar_tolerance > 0))
+        mesh_options_.merge.coplanar_tolerance = positive(*t, "'tolerance'");
     Scene scene;
     if (const JsonValue* image = root.find("image")) read_image(*image, scene);
     if (const JsonValue* camera = root.find("camera")) read_camera(*camera, scene);
@@ -367,7 +373,7 @@ class SceneReader {
       } else if (shape == "polyhedron") {
         for (const JsonValue& p : member(s, "vertices").items) box.extend(vec3(p, "vertex"));
       } else if (shape == "mesh") {
-        for (const Body& m : read_bodies(mesh_path(s))) box.extend(m.bbox());
+        for (const Body& m : read_bodies(mesh_path(s), mesh_options_)) box.extend(m.bbox());
       } else if (s.kind == Kind::Array && s.items.size() == 2 &&
                  s.items[0].kind == Kind::String && s.items[1].kind == Kind::String) {
         Eigen::AlignedBox3d a = take(s.items[0].string), c = take(s.items[1].string);
@@ -503,7 +509,7 @@ class SceneReader {
       return body;
     }
     if (shape == "mesh") {
-      std::vector<Body> bodies = read_bodies(mesh_path(s));
+      std::vector<Body> bodies = read_bodies(mesh_path(s), mesh_options_);
       if (bodies.size() != 1)
         fail(s, "'" + s.string + "' holds " + std::to_string(bodies.size()) +
                     " bodies; a scene body takes a mesh of exactly one");
@@ -552,6 +558,7 @@ class SceneReader {
   }
 
   std::string path_;
+  ReadOptions mesh_options_;  // how "mesh" bodies are imported
   std::string context_;
   const Camera* camera_ = nullptr;
   const JsonValue* bodies_json_ = nullptr;
@@ -568,12 +575,14 @@ bool is_scene_path(const std::string& path) {
   return ext == ".json";
 }
 
-Scene parse_scene(const std::string& path, const std::string& text) {
+Scene parse_scene(const std::string& path, const std::string& text, double tolerance) {
   JsonValue root = parse_json(path, text);
-  return SceneReader(path).read(root);
+  return SceneReader(path, tolerance).read(root);
 }
 
-Scene read_scene(const std::string& path) { return parse_scene(path, read_file(path)); }
+Scene read_scene(const std::string& path, double tolerance) {
+  return parse_scene(path, read_file(path), tolerance);
+}
 
 std::string format_scene(const Scene& scene) {
   nlohmann::ordered_json root;

@@ -86,5 +86,31 @@ TEST(MergeCoplanar, ErrorsNameInputPolygons) {
   }
 }
 
+// The `--tolerance D` of the command: nearly coplanar faces merged and snapped planar, every
+// vertex moved by at most D, and the result a valid body without any planarity tolerance.
+TEST(MergeCoplanar, ToleranceSnapsAFloat32RotatedPartToItsFaces) {
+  const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2)
+                     .transformed(Transform::rotation({1, 2, 3}, 37));
+  PolygonSoup s = triangulated(l);
+  for (Vec3& p : s.vertices)
+    p = Vec3(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  EXPECT_EQ(bodies_from_soup(s)[0].face_count(), 20);  // exact: the triangles stay apart
+  MergeOptions options;
+  options.coplanar_tolerance = 1e-5;
+  std::vector<Body> snapped = bodies_from_soup(s, options);
+  ASSERT_EQ(snapped.size(), 1u);
+  EXPECT_EQ(snapped[0].face_count(), 8);
+  EXPECT_EQ(snapped[0].vertex_count(), 12);
+  // Certified: every vertex within D of an input vertex (the same one: order is kept).
+  for (int i = 0; i < 12; ++i)
+    EXPECT_LE((snapped[0].vertices()[i] - s.vertices[i]).norm(), 1e-5);
+  EXPECT_NEAR(snapped[0].volume(), 12, 1e-4);
+  // Valid as it is: rebuilt with the default (rounding-level) planarity check.
+  EXPECT_NO_THROW(Body(snapped[0].vertices(), snapped[0].faces()));
+  // A tolerance smaller than the float rounding merges nothing and moves nothing.
+  options.coplanar_tolerance = 1e-12;
+  EXPECT_EQ(bodies_from_soup(s, options)[0].face_count(), 20);
+}
+
 }  // namespace
 }  // namespace hedra
