@@ -91,12 +91,13 @@ int main(int argc, char** argv) {
       std::vector<hedra::cli::NamedBody> bodies;
       try {
         bodies = hedra::cli::load_bodies(info_file);
-      } catch (const hedra::InvalidInput&) {
-        // An open surface is reported as such; any other problem is the error it is.
-        const auto open = hedra::cli::open_surface(info_file);
-        if (!open) throw;
-        hedra::cli::print_open_surface(std::cout, *open, info_json);
-        return 0;
+      } catch (const hedra::InvalidInput& e) {
+        // An open surface (consistently oriented and manifold, with boundary edges) is not a
+        // body: its report goes to stdout, and the error stays what it is (exit 3).
+        if (std::string(e.what()).find("not closed") != std::string::npos)
+          if (const auto open = hedra::cli::open_surface(info_file))
+            hedra::cli::print_open_surface(std::cout, *open, info_json);
+        throw;
       }
       if (info_json)
         std::cout << hedra::cli::info_json(bodies, info_matrix).dump(2) << "\n";

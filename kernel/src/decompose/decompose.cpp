@@ -861,9 +861,11 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     out.verified = all_convex && total == input;
     out.exact_volume = CGAL::to_double(input / 6);
   }
-  // Rounded once, here; a piece thinner than rounding everywhere is left out and counted.
+  // Rounded once, here; a piece thinner than rounding everywhere is left out and counted. The
+  // floating-point variant keeps its plain rounding, so its broken pieces still show.
   for (const Piece& p : done) {
-    if (std::optional<Body> b = rounded_piece(p)) out.pieces.push_back(std::move(*b));
+    if (ctx.floating) out.pieces.push_back(body_of(p));
+    else if (std::optional<Body> b = rounded_piece(p)) out.pieces.push_back(std::move(*b));
     else ++out.degenerate_pieces;
   }
   return out;
