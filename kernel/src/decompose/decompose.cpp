@@ -511,7 +511,7 @@ std::optional<Body> rounded_piece(const Piece& piece) {
     }
     try {
       std::vector<Body> bodies = bodies_from_soup(soup, ids);
-      if (bodies.size() == 1) return bodies[0];
+      if (bodies.size() == 1 && convexity(bodies[0]).convex) return bodies[0];
     } catch (const InvalidInput&) {
     }
     // The thinnest non-flat hull triangle (area over squared longest edge) loses the corner

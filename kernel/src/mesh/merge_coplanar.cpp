@@ -102,8 +102,10 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   std::vector<std::array<int, 3>> supports(n);
   for (int p = 0; p < n; ++p) {
     normals[p] = newell_normal(v, polys[p]);
-    supports[p] = normals[p].isZero() ? std::array<int, 3>{-1, -1, -1}
-                                      : support_triple(v, polys[p], normals[p]);
+    // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
+    // triangles, such as the corner faces of decomposition pieces written to files.
+    supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
+                                                  : support_triple(v, polys[p], normals[p]);
     // With caller-given planes (exact pieces rounded to double), a triangle that rounding made
     // flat is still a known part of its plane's region and vanishes in the merged face; only
     // the faces built in the end must have area (Body checks them).
