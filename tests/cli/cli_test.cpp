@@ -208,9 +208,23 @@ TEST(Cli, RotatedFloat32PartsRunThroughEveryCommand) {
   }
 }
 
+std::string plate_5x5(bool rotated) {
+  std::string holes;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const int x = 1 + 2 * i, y = 1 + 2 * j;
+      holes += std::string(holes.empty() ? "" : ",") + "[[" + std::to_string(x) + "," + std::to_string(y) +
+               "],[" + std::to_string(x + 1) + "," + std::to_string(y) + "],[" + std::to_string(x + 1) +
+               "," + std::to_string(y + 1) + "],[" + std::to_string(x) + "," + std::to_string(y + 1) + "]]";
+    }
+  return std::string(R"({"name": "plate", "prism": {"polygon": [[0,0],[11,0],[11,11],[0,11]], "holes": [)") +
+         holes + R"(], "z": [0, 1]})" + (rotated ? std::string(", ") + kRotation : "") + "}";
+}
+
 TEST(Cli, ToleranceGivesTheAlignedTwinsPieceCount) {
   const fs::path dir = temp_dir("tolerance");
-  for (const auto& [name, make] : {std::pair{"l", &l_block}, {"drilled", &drilled_plate}}) {
+  for (const auto& [name, make] :
+       {std::pair{"l", &l_block}, {"drilled", &drilled_plate}, {"plate5", &plate_5x5}}) {
     SCOPED_TRACE(name);
     int pieces[2];
     for (bool rotated : {false, true}) {

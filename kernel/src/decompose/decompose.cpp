@@ -413,6 +413,47 @@ int choose_cut(const Context& ctx, const Piece& piece, const std::vector<Reflex>
   return best;
 }
 
+// Every piece closed: each directed edge has its reverse. Cost O(n).
+bool closed(const std::vector<Piece>& pieces) {
+  for (const Piece& p : pieces) {
+    std::unordered_set<std::uint64_t> directed;
+    for (const Tri& t : p.tris)
+      for (int i = 0; i < 3; ++i) directed.insert(key(t.v[i], t.v[(i + 1) % 3]));
+    for (const Tri& t : p.tris)
+      for (int i = 0; i < 3; ++i)
+        if (!directed.count(key(t.v[(i + 1) % 3], t.v[i]))) return false;
+  }
+  return true;
+}
+
+// The cut of choose_cut. Exactly, a plane through a reflex edge always has the piece on both
+// sides; with an epsilon (the float variant), or with input faces that share a canonical plane
+// only within the rounding guard, it may not, or the cap may fail: then the piece's other
+// reflex-edge planes are tried, in id order, before giving up (deterministic).
+Sides split_or_retry(const Context& ctx, const Piece& piece, const std::vector<Reflex>& reflex) {
+  const int best = choose_cut(ctx, piece, reflex);
+  std::vector<int> planes{best};
+  if (!ctx.floating) {
+    for (const Reflex& r : reflex) planes.push_back(r.p1), planes.push_back(r.p2);
+    std::sort(planes.begin() + 1, planes.end());
+    planes.erase(std::unique(planes.begin() + 1, planes.end()), planes.end());
+  }
+  std::string first_error;
+  for (int plane : planes) {
+    if (plane == best && !first_error.empty()) continue;
+    try {
+      Sides sides = split_piece(ctx, piece, plane);
+      if (!sides.cut) throw std::logic_error("the plane of a reflex edge does not cut its piece");
+      if (!ctx.floating && (!closed(sides.below) || !closed(sides.above)))
+        throw std::logic_error("decompose: a piece is not closed");
+      return sides;
+    } catch (const std::logic_error& e) {
+      if (first_error.empty()) first_error = e.what();
+    }
+  }
+  throw std::logic_error(first_error);
+}
+
 // ---- Back to bodies ----------------------------------------------------------------------
 
 Body body_of(const Piece& piece) {
@@ -814,10 +855,7 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
           convex[i] = 1;
           return;
         }
-        Sides sides = split_piece(ctx, open[i], choose_cut(ctx, open[i], reflex));
-        // Exactly, a plane through a reflex edge always has the piece on both sides; with an
-        // epsilon it may not, and the piece would come back unchanged for ever.
-        if (!sides.cut) throw std::logic_error("the plane of a reflex edge does not cut its piece");
+        Sides sides = split_or_retry(ctx, open[i], reflex);
         for (Piece& p : sides.below) next[i].push_back(std::move(p));
         for (Piece& p : sides.above) next[i].push_back(std::move(p));
       });

@@ -192,6 +192,32 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
         plane_offset[r] = plane_normal[r].dot(v[sup[0]]);
       }
     }
+    // Regions far apart on one plane within the tolerance (the walls of a row of holes) share
+    // the first one's plane, so that later steps see one plane, as in the aligned part.
+    // O(R²) normal comparisons for R regions, corners checked only for parallel pairs.
+    {
+      std::vector<std::vector<int>> corners_of(regions);
+      for (int r = 0; r < regions; ++r) {
+        for (int p : members[r]) corners_of[r].insert(corners_of[r].end(), polys[p].begin(), polys[p].end());
+        std::sort(corners_of[r].begin(), corners_of[r].end());
+        corners_of[r].erase(std::unique(corners_of[r].begin(), corners_of[r].end()), corners_of[r].end());
+      }
+      std::vector<char> taken(regions, 0);
+      for (int r = 0; r < regions; ++r) {
+        if (taken[r]) continue;
+        for (int q = r + 1; q < regions; ++q) {
+          if (taken[q] || plane_normal[r].dot(plane_normal[q]) < 1 - 1e-6) continue;
+          bool same = true;
+          for (int w : corners_of[q])
+            same = same && std::abs(plane_normal[r].dot(v[w]) - plane_offset[r]) <= options.coplanar_tolerance;
+          if (!same) continue;
+          taken[q] = 1;
+          plane_normal[q] = plane_normal[r];
+          plane_offset[q] = plane_offset[r];
+          loose[q] = loose[r] = 1;
+        }
+      }
+    }
     std::vector<std::vector<int>> around(v.size());
     for (int p = 0; p < n; ++p)
       for (int w : polys[p]) around[w].push_back(region[p]);
