@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include <filesystem>
+#include <set>
 
 #include "cli/usage.h"
 #include "hedra/io/mesh_io.h"
@@ -93,17 +94,21 @@ void print_info_table(std::ostream& out, const std::vector<NamedBody>& bodies, b
   }
 }
 
-std::vector<NamedBody> load_bodies(const std::string& path, double coplanar_tolerance,
-                                   double planarity_tolerance) {
+namespace {
+double import_tolerance = 0;
+}  // namespace
+
+void set_import_tolerance(double tolerance) { import_tolerance = tolerance; }
+
+std::vector<NamedBody> load_bodies(const std::string& path) {
   std::vector<NamedBody> named;
   if (io::is_scene_path(path)) {
-    Scene scene = io::read_scene(path);
+    Scene scene = io::read_scene(path, import_tolerance);
     for (const SceneBody* b : scene.visible_bodies()) named.push_back({b->name, b->body, b->lod_note});
     return named;
   }
   io::ReadOptions options;
-  options.merge.coplanar_tolerance = coplanar_tolerance;
-  options.merge.planarity_tolerance = planarity_tolerance;
+  options.merge.coplanar_tolerance = import_tolerance;
   std::vector<Body> bodies = io::read_bodies(path, options);
   const std::string stem = std::filesystem::path(path).stem().string();
   for (size_t i = 0; i < bodies.size(); ++i)
@@ -111,8 +116,65 @@ std::vector<NamedBody> load_bodies(const std::string& path, double coplanar_tole
   return named;
 }
 
+std::optional<OpenSurface> open_surface(const std::string& path) {
+  if (io::is_scene_path(path)) return std::nullopt;
+  const PolygonSoup soup = io::read_soup(path);
+  for (const auto& poly : soup.polygons)
+    for (int v : poly)
+      if (v < 0 || static_cast<size_t>(v) >= soup.vertices.size()) return std::nullopt;
+  std::set<std::pair<int, int>> directed, undirected;
+  for (const auto& poly : soup.polygons)
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const int a = poly[i], b = poly[(i + 1) % poly.size()];
+      directed.emplace(a, b);
+      undirected.emplace(std::min(a, b), std::max(a, b));
+    }
+  OpenSurface out;
+  out.name = std::filesystem::path(path).stem().string();
+  out.vertices = static_cast<int>(soup.vertices.size());
+  out.faces = static_cast<int>(soup.polygons.size());
+  out.edges = static_cast<int>(undirected.size());
+  for (const auto& poly : soup.polygons) {
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const int a = poly[i], b = poly[(i + 1) % poly.size()];
+      if (directed.count({b, a})) continue;
+      if (out.boundary_edges++ == 0) out.first_a = a, out.first_b = b;
+    }
+    Vec3 n = Vec3::Zero();  // Newell's area vector
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const Vec3& p = soup.vertices.at(poly[i]);
+      const Vec3& q = soup.vertices.at(poly[(i + 1) % poly.size()]);
+      n += p.cross(q);
+    }
+    out.area += n.norm() / 2;
+  }
+  if (out.boundary_edges == 0) return std::nullopt;
+  return out;
+}
+
+void print_open_surface(std::ostream& out, const OpenSurface& s, bool json) {
+  if (json) {
+    nlohmann::json j = {{"name", s.name},        {"vertices", s.vertices},
+                        {"edges", s.edges},      {"faces", s.faces},
+                        {"closed", false},       {"boundary_edges", s.boundary_edges},
+                        {"first_boundary_edge", {s.first_a, s.first_b}},
+                        {"area", s.area}};
+    out << nlohmann::json{{"bodies", nlohmann::json::array({j})}}.dump(2) << "\n";
+    return;
+  }
+  char line[512];
+  std::snprintf(line, sizeof line, "%-12s %8s %6s %6s %6s %14s %14s\n", "surface", "vertices", "edges",
+                "faces", "closed", "boundary edges", "area");
+  out << line;
+  std::snprintf(line, sizeof line, "%-12s %8d %6d %6d %6s %14d %14s\n", s.name.c_str(), s.vertices,
+                s.edges, s.faces, "no", s.boundary_edges, num(s.area).c_str());
+  out << line;
+  out << "open surface, not a solid: first boundary edge between vertices " << s.first_a << " and "
+      << s.first_b << "\n";
+}
+
 Scene load_scene(const std::string& path) {
-  if (io::is_scene_path(path)) return io::read_scene(path);
+  if (io::is_scene_path(path)) return io::read_scene(path, import_tolerance);
   Scene scene;
   for (const NamedBody& nb : load_bodies(path)) scene.add(nb.name, nb.body);
   scene.camera = Camera::parallel({-1, -2, -1.5}, {0, 0, 1});

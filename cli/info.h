@@ -1,6 +1,7 @@
 // `hedra info`: per-body report (counts, volume, area, convexity, body matrix).
 #pragma once
 
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -18,15 +19,33 @@ struct NamedBody {
   std::string lod_note;  // how a curved body's tessellation was chosen, if it was
 };
 
+/// The `--tolerance D` of the command (0: exact): meshes read by load_bodies and load_scene
+/// have their nearly coplanar neighbouring faces merged and snapped within D (MergeOptions).
+void set_import_tolerance(double tolerance);
+
 /// The bodies of a scene file (visible ones) or of a mesh file (one per component).
 /// \throw InvalidInput, IoError.
-std::vector<NamedBody> load_bodies(const std::string& path, double coplanar_tolerance = 0,
-                                   double planarity_tolerance = -1);
+std::vector<NamedBody> load_bodies(const std::string& path);
 
 /// A scene file as it is, or a mesh file as a scene of its bodies seen parallel from
 /// (1, 2, 1.5) towards the origin, under a directional light from the same side (a mesh file
 /// has no camera or lights). What `hlr`, `shadows` and `render` read. \throw InvalidInput, IoError.
 Scene load_scene(const std::string& path);
+
+/// A mesh file whose surface is not closed (a scan, a terrain, a single face): what `info`
+/// reports instead of a body.
+struct OpenSurface {
+  std::string name;
+  int vertices = 0, edges = 0, faces = 0;
+  int boundary_edges = 0;
+  int first_a = -1, first_b = -1;  // first boundary edge in file order (vertex numbers)
+  double area = 0;
+};
+
+/// The open-surface report of a mesh file, or nullopt when the file is a scene, or its
+/// surface has no boundary edge. Cost O(n log n). \throw IoError, InvalidInput (unreadable).
+std::optional<OpenSurface> open_surface(const std::string& path);
+void print_open_surface(std::ostream& out, const OpenSurface& s, bool json);
 
 /// Bodies with at most this many faces print their body matrix without --matrix.
 constexpr int kSmallBodyFaces = 12;

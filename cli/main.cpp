@@ -37,19 +37,11 @@ int main(int argc, char** argv) {
 
   std::string info_file;
   bool info_json = false, info_matrix = false;
-  double coplanar_tolerance = 0, planarity_tolerance = -1;
+  double tolerance = 0;
   CLI::App* info = app.add_subcommand("info", "Report the bodies of a scene (.json) or mesh file (OFF, OBJ, STL, PLY)");
   info->add_option("file", info_file, "scene or mesh file")->required();
   info->add_flag("--json", info_json, "print JSON instead of a table");
   info->add_flag("--matrix", info_matrix, "print the body matrix of every body");
-  for (CLI::App* sub : {info}) {
-    sub->add_option("--coplanar-tol", coplanar_tolerance,
-                    "merge neighbouring faces within this distance of one plane (default: exact)")
-        ->check(hedra::cli::finite_number(false));
-    sub->add_option("--planarity-tol", planarity_tolerance,
-                    "accept faces this far from planar (default: exact up to rounding)")
-        ->check(hedra::cli::finite_number(false));
-  }
 
   std::string convert_in, convert_out;
   bool stl_ascii = false;
@@ -58,10 +50,6 @@ int main(int argc, char** argv) {
   convert->add_option("out", convert_out, "output scene or mesh file (format from its extension)")
       ->required();
   convert->add_flag("--stl-ascii", stl_ascii, "write ASCII STL instead of binary");
-  convert->add_option("--coplanar-tol", coplanar_tolerance, "merge tolerance (default: exact)")
-      ->check(hedra::cli::finite_number(false));
-  convert->add_option("--planarity-tol", planarity_tolerance, "planarity tolerance")
-      ->check(hedra::cli::finite_number(false));
 
   hedra::cli::DecomposeCommand dec;
   CLI::App* decompose = app.add_subcommand(
@@ -103,6 +91,14 @@ int main(int argc, char** argv) {
       return fail(std::string("unknown command '") + argv[1] + "' (expected one of: " + names + ")",
                   kExitUsage);
   }
+  // One modeling tolerance for every command that reads bodies (--coplanar-tol and
+  // --planarity-tol are its old names).
+  for (CLI::App* sub : {info, convert, decompose, clip, hlr, render, shadows})
+    sub->add_option("--tolerance,--coplanar-tol,--planarity-tol", tolerance,
+                    "merge nearly coplanar neighbouring faces of meshes read into planar faces, "
+                    "moving no vertex by more than D (default 0: exact)")
+        ->check(hedra::cli::finite_number(false))
+        ->option_text("D");
 
   try {
     app.parse(argc, argv);
@@ -111,9 +107,20 @@ int main(int argc, char** argv) {
     return fail(std::string(e.what()) + " (run with --help for more information)", kExitUsage);
   }
 
+  hedra::cli::set_import_tolerance(tolerance);
   try {
     if (*info) {
-      auto bodies = hedra::cli::load_bodies(info_file, coplanar_tolerance, planarity_tolerance);
+      std::vector<hedra::cli::NamedBody> bodies;
+      try {
+        bodies = hedra::cli::load_bodies(info_file);
+      } catch (const hedra::InvalidInput& e) {
+        // An open surface (consistently oriented and manifold, with boundary edges) is not a
+        // body: its report goes to stdout, and the error stays what it is (exit 3).
+        if (std::string(e.what()).find("not closed") != std::string::npos)
+          if (const auto open = hedra::cli::open_surface(info_file))
+            hedra::cli::print_open_surface(std::cout, *open, info_json);
+        throw;
+      }
       if (info_json)
         std::cout << hedra::cli::info_json(bodies, info_matrix)
                          .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
@@ -123,7 +130,7 @@ int main(int argc, char** argv) {
     } else if (*convert) {
       const bool to_scene = hedra::io::is_scene_path(convert_out);
       if (!to_scene) hedra::io::format_of(convert_out);  // reject an unknown format before reading
-      auto named = hedra::cli::load_bodies(convert_in, coplanar_tolerance, planarity_tolerance);
+      auto named = hedra::cli::load_bodies(convert_in);
       // hedra never writes a file it would reject: a file without bodies is one.
       if (named.empty())
         throw hedra::InvalidInput(convert_in + ": no visible body to write (every body is hidden)");

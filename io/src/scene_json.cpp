@@ -31,13 +31,19 @@ std::string join(std::initializer_list<const char*> words) {
 
 class SceneReader {
  public:
-  SceneReader(std::string path) : path_(std::move(path)) {}
+  SceneReader(std::string path, double tolerance) : path_(std::move(path)) {
+    mesh_options_.merge.coplanar_tolerance = tolerance;
+  }
 
   Scene read(const JsonValue& root) {
     if (root.kind != Kind::Object) fail(root, "a scene file holds a JSON object");
-    allow(root, {"version", "bodies", "camera", "lights", "image"});
+    allow(root, {"version", "tolerance", "bodies", "camera", "lights", "image"});
     if (const JsonValue* v = root.find("version"))
       if (integer(*v, "'version'") != 1) fail(*v, "unsupported version (this reader knows 1)");
+    // Mesh import tolerance (MergeOptions::coplanar_tolerance); the command's --tolerance wins.
+    if (const JsonValue* t = root.find("tolerance"))
+      if (!(mesh_options_.merge.coplanar_tolerance > 0))
+        mesh_options_.merge.coplanar_tolerance = positive(*t, "'tolerance'");
     Scene scene;
     if (const JsonValue* image = root.find("image")) read_image(*image, scene);
     if (const JsonValue* camera = root.find("camera")) read_camera(*camera, scene);
@@ -402,7 +408,7 @@ class SceneReader {
   std::vector<Body> read_mesh(const JsonValue& v) const {
     const std::string path = mesh_path(v);
     try {
-      return read_bodies(path);
+      return read_bodies(path, mesh_options_);
     } catch (const IoError& e) {
       throw IoError(path_ + ":" + std::to_string(v.line) + ":" + std::to_string(v.column) + ": " +
                     context_ + "'mesh': " + e.what());
@@ -601,6 +607,7 @@ class SceneReader {
   }
 
   std::string path_;
+  ReadOptions mesh_options_;  // how "mesh" bodies are imported
   std::string context_;
   const Camera* camera_ = nullptr;
   const JsonValue* bodies_json_ = nullptr;
@@ -617,12 +624,14 @@ bool is_scene_path(const std::string& path) {
   return ext == ".json";
 }
 
-Scene parse_scene(const std::string& path, const std::string& text) {
+Scene parse_scene(const std::string& path, const std::string& text, double tolerance) {
   JsonValue root = parse_json(path, text);
-  return SceneReader(path).read(root);
+  return SceneReader(path, tolerance).read(root);
 }
 
-Scene read_scene(const std::string& path) { return parse_scene(path, read_file(path)); }
+Scene read_scene(const std::string& path, double tolerance) {
+  return parse_scene(path, read_file(path), tolerance);
+}
 
 std::string format_scene(const Scene& scene) {
   nlohmann::ordered_json root;

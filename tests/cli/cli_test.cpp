@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -156,6 +157,129 @@ TEST(Cli, UsageErrorsExitWithTwo) {
   EXPECT_EQ(run("info").code, 2);
   EXPECT_EQ(run("frobnicate").code, 2);
   EXPECT_EQ(run("info /nonexistent/file.off").code, 3);
+}
+
+// ---- Issue 14: float32 parts, --tolerance, open surfaces -----------------------------------
+
+// A scene with one body: `shape` (JSON of a body without its name), under `transform`.
+fs::path part_scene(const fs::path& dir, const std::string& name, const std::string& bodies) {
+  const fs::path path = dir / (name + ".json");
+  std::ofstream(path) << "{\"version\": 1, \"bodies\": [" << bodies << "]}\n";
+  return path;
+}
+
+const char* kRotation = R"("transform": [{"rotate": {"axis": [1, 2, 3], "deg": 37}}])";
+
+std::string l_block(bool rotated) {
+  return std::string(R"({"name": "L", "prism": {"polygon": [[0,0],[4,0],[4,1],[1,1],[1,3],[0,3]], "z": [0, 2]})") +
+         (rotated ? std::string(", ") + kRotation : "") + "}";
+}
+
+std::string drilled_plate(bool rotated) {
+  return std::string(R"({"name": "plate", "box": {"min": [-2, -2, 0], "max": [2, 2, 1]}, "hidden": true},)"
+                     R"({"name": "drill", "cylinder": {"radius": 0.5, "z": [-1, 2], "tolerance": 0.01}, "hidden": true},)"
+                     R"({"name": "drilled", "subtract": ["plate", "drill"])") +
+         (rotated ? std::string(", ") + kRotation : "") + "}";
+}
+
+TEST(Cli, RotatedFloat32PartsRunThroughEveryCommand) {
+  const fs::path dir = temp_dir("float32");
+  std::ofstream(dir / "segments.txt") << "-5 -5 -5 5 5 5\n0 0 -5 0 0 5\n-5 0.1 0.3 5 0.2 0.4\n";
+  for (const auto& [name, body] : {std::pair{"l", l_block(true)}, {"drilled", drilled_plate(true)}}) {
+    SCOPED_TRACE(name);
+    const std::string stl = (dir / (std::string(name) + ".stl")).string();
+    Result r = run("convert " + part_scene(dir, name, body).string() + " " + stl);
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run("decompose --json " + stl);
+    ASSERT_EQ(r.code, 0) << r.err;
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_NEAR(j["pieces_volume"].get<double>(), j["input_volume"].get<double>(),
+                1e-9 * j["input_volume"].get<double>());
+    EXPECT_EQ(j["all_convex"], true);
+    r = run("hlr " + stl + " -o " + (dir / "lines.svg").string());
+    EXPECT_EQ(r.code, 0) << r.err;
+    r = run("shadows " + stl);
+    EXPECT_EQ(r.code, 0) << r.err;
+    r = run("render " + stl + " -o " + (dir / "image.png").string() + " --width 64 --height 48");
+    EXPECT_EQ(r.code, 0) << r.err;
+    r = run("clip --body " + stl + " --segments " + (dir / "segments.txt").string() + " -o " +
+            (dir / "parts.txt").string());
+    EXPECT_EQ(r.code, 0) << r.err;
+  }
+}
+
+std::string plate_5x5(bool rotated) {
+  std::string holes;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j) {
+      const int x = 1 + 2 * i, y = 1 + 2 * j;
+      holes += std::string(holes.empty() ? "" : ",") + "[[" + std::to_string(x) + "," + std::to_string(y) +
+               "],[" + std::to_string(x + 1) + "," + std::to_string(y) + "],[" + std::to_string(x + 1) +
+               "," + std::to_string(y + 1) + "],[" + std::to_string(x) + "," + std::to_string(y + 1) + "]]";
+    }
+  return std::string(R"({"name": "plate", "prism": {"polygon": [[0,0],[11,0],[11,11],[0,11]], "holes": [)") +
+         holes + R"(], "z": [0, 1]})" + (rotated ? std::string(", ") + kRotation : "") + "}";
+}
+
+TEST(Cli, ToleranceGivesTheAlignedTwinsPieceCount) {
+  const fs::path dir = temp_dir("tolerance");
+  for (const auto& [name, make] :
+       {std::pair{"l", &l_block}, {"drilled", &drilled_plate}, {"plate5", &plate_5x5}}) {
+    SCOPED_TRACE(name);
+    int pieces[2];
+    for (bool rotated : {false, true}) {
+      const std::string stl = (dir / (std::string(name) + (rotated ? "_r" : "") + ".stl")).string();
+      ASSERT_EQ(run("convert " + part_scene(dir, name, make(rotated)).string() + " " + stl).code, 0);
+      Result r = run("decompose --json --tolerance 1e-5 " + stl);
+      ASSERT_EQ(r.code, 0) << r.err;
+      pieces[rotated] = nlohmann::json::parse(r.out)["pieces"].get<int>();
+    }
+    EXPECT_LE(std::abs(pieces[1] - pieces[0]), 0.1 * pieces[0]) << pieces[0] << " vs " << pieces[1];
+    // The snapped body is valid as it is: written and read back without a tolerance.
+    const std::string stl = (dir / (std::string(name) + "_r.stl")).string();
+    const std::string off = (dir / (std::string(name) + "_snapped.off")).string();
+    Result r = run("convert --tolerance 1e-5 " + stl + " " + off);
+    ASSERT_EQ(r.code, 0) << r.err;
+    r = run("info --json " + off);
+    ASSERT_EQ(r.code, 0) << r.err;
+    // The old names are aliases.
+    EXPECT_EQ(run("info --coplanar-tol 1e-5 " + stl).code, 0);
+    EXPECT_EQ(run("hlr --planarity-tol 1e-5 " + stl + " -o " + (dir / "l.svg").string()).code, 0);
+  }
+}
+
+TEST(Cli, OpenSurfacesAreReportedAndRejectedBySolidCommands) {
+  const fs::path dir = temp_dir("open");
+  const std::string open = (dir / "cup.off").string();
+  std::ofstream(dir / "segments.txt") << "0 0 -1 0 0 2\n";
+  std::ofstream(open) << "OFF\n8 5 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                         "4 0 3 2 1\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  // Not a body: exit 3 with the one-line error, the surface's report on stdout.
+  Result r = run("info --json " + open);
+  ASSERT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.err.find("not closed: 4 boundary edges"), std::string::npos) << r.err;
+  const nlohmann::json b = nlohmann::json::parse(r.out)["bodies"][0];
+  EXPECT_EQ(b["closed"], false);
+  EXPECT_EQ(b["boundary_edges"], 4);
+  EXPECT_EQ(b["faces"], 5);
+  EXPECT_EQ(b["area"], 5.0);
+  r = run("info " + open);
+  ASSERT_EQ(r.code, 3) << r.err;
+  EXPECT_NE(r.out.find("open surface"), std::string::npos);
+  // A flipped face is not an open surface: no report.
+  std::ofstream(dir / "flipped.off") << "OFF\n8 6 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 1\n1 0 1\n1 1 1\n0 1 1\n"
+                                        "4 0 3 2 1\n4 7 6 5 4\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  r = run("info " + (dir / "flipped.off").string());
+  EXPECT_EQ(r.code, 3);
+  EXPECT_EQ(r.out, "");
+  for (const std::string& command :
+       {"decompose " + open, "clip --body " + open + " --segments " + (dir / "segments.txt").string() +
+                                  " -o " + (dir / "x").string()}) {
+    r = run(command);
+    EXPECT_EQ(r.code, 3) << command;
+    EXPECT_NE(r.err.find("cup.off"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("boundary edge"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace

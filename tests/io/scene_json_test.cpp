@@ -135,6 +135,34 @@ TEST(SceneJson, MeshUniteAndIntersectBodies) {
   fs::remove_all(dir);
 }
 
+// The top-level "tolerance" key imports meshes as `--tolerance` does; the reader's own
+// tolerance (the command's option) wins over it.
+TEST(SceneJson, ToleranceKeySnapsNearlyCoplanarMeshFaces) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("hedra_scene_tol_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  // A cube with its top as two triangles, one corner lifted by 1e-9: not coplanar exactly.
+  std::ofstream(dir / "cube.off")
+      << "OFF\n8 7 0\n0 0 0\n2 0 0\n2 2 0\n0 2 0\n0 0 2\n2 0 2\n2 2 2.000000001\n0 2 2\n"
+         "4 0 3 2 1\n3 4 5 6\n3 4 6 7\n4 0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n4 3 0 4 7\n";
+  std::ofstream(dir / "exact.json") << R"({"bodies": [{"name": "c", "mesh": "cube.off"}]})";
+  std::ofstream(dir / "loose.json")
+      << R"({"tolerance": 1e-6, "bodies": [{"name": "c", "mesh": "cube.off"}]})";
+  const Scene exact = io::read_scene((dir / "exact.json").string());
+  EXPECT_EQ(exact.get("c").body.face_count(), 7);
+  const Scene loose = io::read_scene((dir / "loose.json").string());
+  EXPECT_EQ(loose.get("c").body.face_count(), 6);
+  EXPECT_NEAR(loose.get("c").body.volume(), 8, 1e-8);
+  EXPECT_EQ(io::read_scene((dir / "exact.json").string(), 1e-6).get("c").body.face_count(), 6);
+  try {
+    io::parse_scene("t.json", R"({"tolerance": -1, "bodies": [{"name": "b", "box": {"min": [0, 0, 0], "max": [1, 1, 1]}}]})");
+    ADD_FAILURE() << "a negative tolerance was accepted";
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("'tolerance' must be positive"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 TEST(SceneJson, WriteBackGivesAnEquivalentScene) {
   Scene s = io::read_scene(kExample);
   const std::string text = io::format_scene(s);
@@ -155,7 +183,7 @@ TEST(SceneJson, ErrorsNameFileLineColumnAndProblem) {
       {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1,1]}, \"colour\": 1}]}",
        "scene.json:1:68: body 'a': unknown key 'colour' (expected name, one shape, transform, material, hidden)"},
       {"{\"bodies\": [], \"extra\": 1}",
-       "scene.json:1:16: unknown key 'extra' (expected one of: version, bodies, camera, lights, image)"},
+       "scene.json:1:16: unknown key 'extra' (expected one of: version, tolerance, bodies, camera, lights, image)"},
       {"{\"bodies\": []}", "scene.json:1:12: 'bodies' is empty"},
       {"{\"bodies\": [{\"name\": \"a\", \"box\": {\"min\": [0,0,0], \"max\": [1,1]}}]}",
        "scene.json:1:58: body 'a': 'max' must be an array of 3 numbers"},

@@ -2,6 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
+#include <random>
+
 #include "hedra/mesh/convexity.h"
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
@@ -86,6 +90,131 @@ TEST(Boolean, ConvexIntersectionByPlaneSetsEqualsBoolean) {
   EXPECT_EQ(overlap->face_count(), 6);
   EXPECT_FALSE(intersect_convex(box({0, 0, 0}, {1, 1, 1}), box({2, 0, 0}, {3, 1, 1})));
   EXPECT_FALSE(intersect_convex(box({0, 0, 0}, {1, 1, 1}), box({1, 0, 0}, {2, 1, 1})));  // a face
+}
+
+// ---- Curved primitives (issue 14): results are valid bodies, volumes add up exactly ----------
+
+// Area of the regular n-gon of circumradius r that cylinder() inscribes.
+double ngon_area(int n, double r) { return 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n); }
+
+// V(A − B) + V(A ∩ B) = V(A), to 1e-9 of V(A); both parts must be valid bodies.
+void expect_volumes_add_up(const Body& a, const Body& b) {
+  std::optional<Body> minus = subtract(a, b);
+  std::optional<Body> common = intersect(a, b);
+  ASSERT_TRUE(minus && common);
+  EXPECT_NEAR(minus->volume() + common->volume(), a.volume(), 1e-9 * a.volume());
+}
+
+// The face whose inner normal is (anti)parallel to `axis` and which has the most vertices.
+int flat_face(const Body& b, const Vec3& inner) {
+  int best = -1;
+  for (int f = 0; f < b.face_count(); ++f)
+    if (b.inner_normal(f).dot(inner) > 1 - 1e-12) best = f;
+  return best;
+}
+
+TEST(Boolean, DrilledPlate) {
+  const Body plate = box({-2, -2, 0}, {2, 2, 1});
+  const Body drill = cylinder(0.5, -1, 2, 0.01);
+  const int n = segments_for_tolerance(0.5, 0.01);
+  std::optional<Body> drilled = subtract(plate, drill);
+  ASSERT_TRUE(drilled);
+  EXPECT_NEAR(drilled->volume(), 16 - ngon_area(n, 0.5) * 1, 1e-12 * 16);
+  EXPECT_EQ(drilled->face_count(), 6 + n);  // 4 sides, top and bottom with a hole, n walls
+  int holes = 0;
+  for (const Face& f : drilled->faces()) holes += static_cast<int>(f.loops.size()) - 1;
+  EXPECT_EQ(holes, 2);
+  EXPECT_EQ(drilled->vertex_count(), 8 + 2 * n);  // no vertex only splitting an edge is left
+  EXPECT_EQ(drilled->classify({0, 0, 0.5}), Location::Outside);
+  EXPECT_EQ(drilled->classify({1.5, 1.5, 0.5}), Location::Inside);
+  expect_volumes_add_up(plate, drill);
+  // Touching: the drill ends on the plate's faces.
+  std::optional<Body> flush = subtract(plate, cylinder(0.5, 0, 1, 0.01));
+  ASSERT_TRUE(flush);
+  EXPECT_NEAR(flush->volume(), drilled->volume(), 1e-12 * 16);
+}
+
+TEST(Boolean, SphereCutThroughItsCentre) {
+  const Body ball = sphere({0, 0, 0}, 1, 0.01);
+  const Body upper = box({-2, -2, 0}, {2, 2, 2});
+  std::optional<Body> dome = intersect(ball, upper);
+  std::optional<Body> lower = subtract(ball, upper);
+  ASSERT_TRUE(dome && lower);
+  EXPECT_NEAR(dome->volume() + lower->volume(), ball.volume(), 1e-9 * ball.volume());
+  // The tessellation is symmetric about the equator: each half has half the volume.
+  EXPECT_NEAR(dome->volume(), ball.volume() / 2, 1e-9 * ball.volume());
+  // Half a convex polyhedron is convex: the sphere's faces below the equator plus one flat
+  // disk, not a thousand triangles.
+  for (const Body* half : {&*dome, &*lower}) {
+    EXPECT_TRUE(convexity(*half).convex);
+    EXPECT_EQ(half->face_count(), ball.face_count() / 2 + 1);
+  }
+  const int disk = flat_face(*lower, {0, 0, -1});
+  ASSERT_GE(disk, 0);
+  int rings = 2;
+  while (sphere_chordal_error(1, rings) > 0.01) ++rings;
+  EXPECT_EQ(lower->faces()[disk].loops.size(), 1u);
+  EXPECT_EQ(lower->faces()[disk].loops[0].size(), static_cast<size_t>(2 * rings));
+  // A box through the centre but off the equator's ring: new vertices everywhere.
+  const Body slanted = box({-2, -2, 0.1234567}, {2, 2, 2}).rotated_x(7);
+  expect_volumes_add_up(ball, slanted);
+  std::optional<Body> cap = subtract(ball, slanted);
+  ASSERT_TRUE(cap);
+  EXPECT_TRUE(convexity(*cap).convex);
+  EXPECT_GE(flat_face(*cap, Transform::rotation_x(7).apply_vector({0, 0, -1})), 0);
+}
+
+TEST(Boolean, PipeTee) {
+  const Body main_pipe = cylinder(0.5, -3, 3, 0.01).rotated_y(90);     // along x
+  const Body branch = cylinder(0.3, 0, 2, 0.01);                      // along z, from the axis
+  Body tee = unite(main_pipe, branch);
+  std::optional<Body> common = intersect(main_pipe, branch);
+  ASSERT_TRUE(common);
+  EXPECT_NEAR(tee.volume(), main_pipe.volume() + branch.volume() - common->volume(),
+              1e-9 * tee.volume());
+  EXPECT_FALSE(convexity(tee).convex);
+  EXPECT_EQ(tee.classify({0, 0, 1.5}), Location::Inside);
+  EXPECT_EQ(tee.classify({2, 0, 0}), Location::Inside);
+  EXPECT_EQ(tee.classify({0, 0.45, 0.6}), Location::Outside);
+  expect_volumes_add_up(main_pipe, branch);
+}
+
+TEST(Boolean, NestedBooleans) {
+  // A drilled plate with a dome on it, then cut by a slanted box: each step's result is the
+  // next step's operand.
+  Body part = *subtract(box({-2, -2, 0}, {2, 2, 1}), cylinder(0.5, -1, 2, 0.01));
+  part = unite(part, *intersect(sphere({1, 1, 1}, 0.8, 0.02), box({-1, -1, 1}, {3, 3, 3})));
+  const Body cutter = box({0, -3, -1}, {3, 3, 3}).rotated_z(20).rotated_x(5);
+  expect_volumes_add_up(part, cutter);
+  std::optional<Body> piece = subtract(part, cutter);
+  ASSERT_TRUE(piece);
+  std::optional<Body> again = subtract(*piece, cylinder(0.2, -1, 3, 0.01).translated({-1, -1, 0}));
+  ASSERT_TRUE(again);
+  EXPECT_NEAR(again->volume(), piece->volume() - ngon_area(segments_for_tolerance(0.2, 0.01), 0.2),
+              1e-9 * piece->volume());
+}
+
+TEST(Boolean, RandomRotationsOfCurvedOperands) {
+  std::mt19937_64 rng(14);
+  std::uniform_real_distribution<double> unit(-1, 1), angle(0, 360);
+  const Body plate = box({-2, -2, 0}, {2, 2, 1});
+  const Body drill = cylinder(0.5, -1, 2, 0.01);
+  const Body ball = sphere({0.3, 0.2, 0.5}, 1.1, 0.02);
+  const double hole = ngon_area(segments_for_tolerance(0.5, 0.01), 0.5);
+  for (int trial = 0; trial < 8; ++trial) {
+    Vec3 axis(unit(rng), unit(rng), unit(rng));
+    if (axis.norm() < 0.1) axis = Vec3(1, 2, 3);
+    const Transform t = Transform::rotation(axis, angle(rng), Vec3(unit(rng), unit(rng), unit(rng)));
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const Body p = plate.transformed(t), d = drill.transformed(t), s = ball.transformed(t);
+    std::optional<Body> drilled = subtract(p, d);
+    ASSERT_TRUE(drilled);
+    EXPECT_NEAR(drilled->volume(), 16 - hole, 1e-9 * 16);
+    expect_volumes_add_up(p, s);
+    expect_volumes_add_up(s, p);
+    Body both = unite(*drilled, s);
+    EXPECT_GT(both.volume(), drilled->volume());
+  }
 }
 
 }  // namespace

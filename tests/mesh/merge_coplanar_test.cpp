@@ -4,6 +4,10 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
+#include "hedra/mesh/triangulate.h"
+#include "testing/decomposition_suite.h"
+
+#include <map>
 
 namespace hedra {
 namespace {
@@ -83,6 +87,74 @@ TEST(MergeCoplanar, ErrorsNameInputPolygons) {
     FAIL();
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("face 3 is flipped"), std::string::npos) << e.what();
+  }
+}
+
+// The `--tolerance D` of the command: nearly coplanar faces merged and snapped planar, every
+// vertex moved by at most D, and the result a valid body without any planarity tolerance.
+TEST(MergeCoplanar, ToleranceSnapsAFloat32RotatedPartToItsFaces) {
+  const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2)
+                     .transformed(Transform::rotation({1, 2, 3}, 37));
+  PolygonSoup s = triangulated(l);
+  for (Vec3& p : s.vertices)
+    p = Vec3(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  EXPECT_EQ(bodies_from_soup(s)[0].face_count(), 20);  // exact: the triangles stay apart
+  MergeOptions options;
+  options.coplanar_tolerance = 1e-5;
+  std::vector<Body> snapped = bodies_from_soup(s, options);
+  ASSERT_EQ(snapped.size(), 1u);
+  EXPECT_EQ(snapped[0].face_count(), 8);
+  EXPECT_EQ(snapped[0].vertex_count(), 12);
+  // Certified: every vertex within D of an input vertex (the same one: order is kept).
+  for (int i = 0; i < 12; ++i)
+    EXPECT_LE((snapped[0].vertices()[i] - s.vertices[i]).norm(), 1e-5);
+  EXPECT_NEAR(snapped[0].volume(), 12, 1e-4);
+  // Valid as it is: rebuilt with the default (rounding-level) planarity check.
+  EXPECT_NO_THROW(Body(snapped[0].vertices(), snapped[0].faces()));
+  // A tolerance smaller than the float rounding merges nothing and moves nothing.
+  options.coplanar_tolerance = 1e-12;
+  EXPECT_EQ(bodies_from_soup(s, options)[0].face_count(), 20);
+}
+
+// A convex loop with a straight run (a vertex splitting an edge in two): the fan from a
+// strictly convex corner would make a flat triangle; every loop edge must still be a triangle
+// edge, or the body's triangles are not closed (a float32 plate with 5×5 holes failed so).
+TEST(Triangulate, ConvexLoopWithAStraightRunKeepsEveryEdge) {
+  const std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {2, 2, 0}};
+  for (int start = 0; start < 4; ++start) {
+    std::vector<int> loop;
+    for (int k = 0; k < 4; ++k) loop.push_back((start + k) % 4);
+    const auto tris = triangulate_polygon(v, {loop}, Vec3(0, 0, 1));
+    std::map<std::pair<int, int>, int> edges;
+    double area = 0;
+    for (const auto& t : tris) {
+      for (int i = 0; i < 3; ++i) ++edges[{t[i], t[(i + 1) % 3]}];
+      area += (v[t[1]] - v[t[0]]).cross(v[t[2]] - v[t[0]]).z() / 2;
+    }
+    for (int k = 0; k < 4; ++k) {
+      const std::pair<int, int> edge(loop[k], loop[(k + 1) % 4]);
+      EXPECT_EQ(edges[edge], 1) << start;
+    }
+    EXPECT_EQ(area, 2) << start;
+  }
+}
+
+// The body of a float32 STL of a rotated plate with 5×5 holes: its triangles are closed.
+TEST(MergeCoplanar, Float32PlateWithHolesHasClosedTriangles) {
+  for (const Vec3& axis : {Vec3(1, 2, 3), Vec3(0.3, -0.7, 0.2), Vec3(-2, 3, 1)}) {
+    const Body plate = suite::plate_with_holes(5).transformed(Transform::rotation(axis, 37));
+    PolygonSoup s = triangulated(plate);
+    for (Vec3& p : s.vertices)
+      p = Vec3(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    const Body b = bodies_from_soup(s).at(0);
+    std::map<std::pair<int, int>, int> directed;
+    for (const Triangle& t : b.triangles())
+      for (int i = 0; i < 3; ++i) ++directed[{t.v[i], t.v[(i + 1) % 3]}];
+    for (const auto& [e, n] : directed) {
+      EXPECT_EQ(n, 1);
+      const std::pair<int, int> back(e.second, e.first);
+      EXPECT_EQ(directed.count(back), 1u) << e.first << " " << e.second;
+    }
   }
 }
 

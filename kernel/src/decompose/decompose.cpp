@@ -13,6 +13,8 @@
 #include <list>
 #include <map>
 #include <numeric>
+#include <limits>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -88,6 +90,149 @@ int choose_cut(const Context& ctx, const Piece& piece, const std::vector<Reflex>
   }
   HEDRA_ASSERT(best_resolved > 0, "decompose: no cut resolves a reflex edge");
   return best;
+}
+
+// Every piece closed: each directed edge has its reverse. Cost O(n).
+bool closed(const std::vector<Piece>& pieces) {
+  for (const Piece& p : pieces) {
+    std::unordered_set<std::uint64_t> directed;
+    for (const Tri& t : p.tris)
+      for (int i = 0; i < 3; ++i) directed.insert(key(t.v[i], t.v[(i + 1) % 3]));
+    for (const Tri& t : p.tris)
+      for (int i = 0; i < 3; ++i)
+        if (!directed.count(key(t.v[(i + 1) % 3], t.v[i]))) return false;
+  }
+  return true;
+}
+
+// The cut of choose_cut. Exactly, a plane through a reflex edge always has the piece on both
+// sides; with an epsilon (the float variant), or with input faces that share a canonical plane
+// only within the rounding guard, it may not, or the cap may fail: then the piece's other
+// reflex-edge planes are tried, in id order, before giving up (deterministic).
+Sides split_or_retry(const Context& ctx, const Piece& piece, const std::vector<Reflex>& reflex) {
+  const int best = choose_cut(ctx, piece, reflex);
+  std::vector<int> planes{best};
+  if (!ctx.floating) {
+    for (const Reflex& r : reflex) planes.push_back(r.p1), planes.push_back(r.p2);
+    std::sort(planes.begin() + 1, planes.end());
+    planes.erase(std::unique(planes.begin() + 1, planes.end()), planes.end());
+  }
+  std::string first_error;
+  for (int plane : planes) {
+    if (plane == best && !first_error.empty()) continue;
+    try {
+      Sides sides = split_piece(ctx, piece, plane);
+      if (!sides.cut) throw InternalError("the plane of a reflex edge does not cut its piece");
+      if (!ctx.floating && (!closed(sides.below) || !closed(sides.above)))
+        throw InternalError("decompose: a piece is not closed");
+      return sides;
+    } catch (const InternalError& e) {
+      if (first_error.empty()) first_error = e.what();
+    }
+  }
+  throw InternalError(first_error);
+}
+
+// A convex piece with double coordinates, never failing on a valid piece. First the exact
+// piece rounded with its faces merged by canonical plane (body_of). Where rounding breaks that
+// (a face a few 1e-9 wide is tilted by rounding, a sliver corner thinner than an ulp
+// collapses, a face left reflex by a few ulps), the convex hull of the piece's rounded vertices instead: the piece is convex,
+// so the hull lies within half an ulp per coordinate of it (no gap or overlap with its
+// neighbours beyond rounding); its coplanar hull triangles are merged exactly (orient3d on the
+// doubles); a hull corner making a sliver hull face is dropped (about an ulp). nullopt when even the rounded vertices are coplanar: the whole piece is thinner
+// than rounding (counted in Decomposition::degenerate_pieces). Cost O(n log n), n points.
+std::optional<Body> rounded_piece(const Piece& piece) {
+  try {
+    Body body = body_of(piece);
+    // Rounding can also leave a face a few ulps reflex; consumers (clipping) need exact
+    // convexity of the double polyhedron.
+    if (convexity(body).convex) return body;
+  } catch (const InvalidInput&) {
+  }
+  std::vector<P3> coords;
+  for (const Point& p : piece.pts)
+    coords.emplace_back(CGAL::to_double(p.p.x()), CGAL::to_double(p.p.y()), CGAL::to_double(p.p.z()));
+  std::sort(coords.begin(), coords.end());
+  coords.erase(std::unique(coords.begin(), coords.end()), coords.end());
+  // A hull face can itself be a sliver (three rounded corners in a line within an ulp) whose
+  // area double arithmetic cannot resolve: then the middle corner of the thinnest hull
+  // triangle is dropped and the hull taken again. Each drop moves the hull by about an ulp.
+  for (int attempt = 0; attempt < 256; ++attempt) {
+    if (coords.size() < 4) return std::nullopt;
+    size_t i2 = 2;
+    while (i2 < coords.size() && CGAL::collinear(coords[0], coords[1], coords[i2])) ++i2;
+    if (i2 == coords.size()) return std::nullopt;
+    bool solid = false;
+    for (size_t i = 2; i < coords.size() && !solid; ++i)
+      solid = !CGAL::coplanar(coords[0], coords[1], coords[i2], coords[i]);
+    if (!solid) return std::nullopt;
+    CGAL::Surface_mesh<P3> hull;
+    CGAL::convex_hull_3(coords.begin(), coords.end(), hull);
+    PolygonSoup soup;
+    std::map<CGAL::Surface_mesh<P3>::Vertex_index, int> index;
+    for (auto v : hull.vertices()) {
+      index[v] = static_cast<int>(soup.vertices.size());
+      const P3& p = hull.point(v);
+      soup.vertices.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    }
+    // Plane of every hull triangle by exact comparison; a flat triangle (a point kept on a
+    // hull edge) takes the plane of a neighbour and vanishes in its face.
+    std::vector<PL> planes;
+    std::vector<int> ids;
+    std::map<std::pair<int, int>, size_t> edge_owner;
+    for (auto f : hull.faces()) {
+      std::vector<int> tri;
+      std::vector<P3> pts;
+      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
+        tri.push_back(index[v]);
+        pts.push_back(hull.point(v));
+      }
+      int id = -1;
+      if (!CGAL::collinear(pts[0], pts[1], pts[2])) {
+        const PL plane(pts[0], pts[1], pts[2]);
+        for (size_t k = 0; k < planes.size() && id < 0; ++k)
+          if (planes[k] == plane) id = static_cast<int>(k);
+        if (id < 0) {
+          id = static_cast<int>(planes.size());
+          planes.push_back(plane);
+        }
+      }
+      for (int i = 0; i < 3; ++i) edge_owner[{tri[i], tri[(i + 1) % 3]}] = soup.polygons.size();
+      ids.push_back(id);
+      soup.polygons.push_back(std::move(tri));
+    }
+    for (bool progress = true; progress;) {
+      progress = false;
+      for (size_t t = 0; t < soup.polygons.size(); ++t) {
+        if (ids[t] >= 0) continue;
+        const auto& tri = soup.polygons[t];
+        for (int i = 0; i < 3 && ids[t] < 0; ++i) {
+          const size_t u = edge_owner.at({tri[(i + 1) % 3], tri[i]});
+          if (ids[u] >= 0) ids[t] = ids[u], progress = true;
+        }
+      }
+    }
+    try {
+      std::vector<Body> bodies = bodies_from_soup(soup, ids);
+      if (bodies.size() == 1 && convexity(bodies[0]).convex) return bodies[0];
+    } catch (const InvalidInput&) {
+    }
+    // The thinnest non-flat hull triangle (area over squared longest edge) loses the corner
+    // opposite its longest edge.
+    double thinnest = std::numeric_limits<double>::infinity();
+    Vec3 drop = Vec3::Zero();
+    for (size_t t = 0; t < soup.polygons.size(); ++t) {
+      const auto& tri = soup.polygons[t];
+      const Vec3 &a = soup.vertices[tri[0]], &b = soup.vertices[tri[1]], &c = soup.vertices[tri[2]];
+      const std::array<double, 3> edge = {(c - b).squaredNorm(), (a - c).squaredNorm(), (b - a).squaredNorm()};
+      const int longest = static_cast<int>(std::max_element(edge.begin(), edge.end()) - edge.begin());
+      const double thin = (b - a).cross(c - a).norm() / edge[longest];
+      if (thin < thinnest) thinnest = thin, drop = soup.vertices[tri[longest]];
+    }
+    const P3 gone(drop.x(), drop.y(), drop.z());
+    coords.erase(std::remove(coords.begin(), coords.end(), gone), coords.end());
+  }
+  return std::nullopt;
 }
 
 EK::FT exact_volume6(const Piece& piece) {
@@ -357,10 +502,7 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
         convex[i] = 1;
         return;
       }
-      Sides sides = split_piece(ctx, open[i], choose_cut(ctx, open[i], reflex));
-      // Exactly, a plane through a reflex edge always has the piece on both sides; with an
-      // epsilon it may not, and the piece would come back unchanged for ever.
-      HEDRA_ASSERT(sides.cut, "the plane of a reflex edge does not cut its piece");
+      Sides sides = split_or_retry(ctx, open[i], reflex);
       for (Piece& p : sides.below) next[i].push_back(std::move(p));
       for (Piece& p : sides.above) next[i].push_back(std::move(p));
     });
@@ -405,16 +547,12 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     out.verified = all_convex && total == input;
     out.exact_volume = CGAL::to_double(input / 6);
   }
-  for (size_t i = 0; i < done.size(); ++i) {
-    try {
-      out.pieces.push_back(body_of(done[i]));
-    } catch (const InvalidInput& e) {
-      // The exact piece is valid, but too thin for double coordinates.
-      throw InvalidInput("decompose: piece " + std::to_string(i) +
-                         " is thinner than double coordinates can represent (" + e.what() +
-                         "); the input has nearly coplanar faces: merge them on import "
-                         "(--coplanar-tol)");
-    }
+  // Rounded once, here; a piece thinner than rounding everywhere is left out and counted. The
+  // floating-point variant keeps its plain rounding, so its broken pieces still show.
+  for (const Piece& p : done) {
+    if (ctx.floating) out.pieces.push_back(body_of(p));
+    else if (std::optional<Body> b = rounded_piece(p)) out.pieces.push_back(std::move(*b));
+    else ++out.degenerate_pieces;
   }
   return out;
 }
@@ -444,7 +582,8 @@ std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges) {
   std::sort(exact.begin(), exact.end(), [](const Piece& a, const Piece& b) {
     return smallest_point(a) < smallest_point(b);
   });
-  for (const Piece& p : exact) out.push_back(body_of(p));
+  for (const Piece& p : exact)
+    if (std::optional<Body> b = rounded_piece(p)) out.push_back(std::move(*b));
   return out;
 }
 

@@ -1,12 +1,16 @@
 #include "hedra/mesh/merge_coplanar.h"
 
+#include <algorithm>
 #include <numeric>
+
+#include <Eigen/SVD>
 #include <string>
 #include <unordered_map>
 
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
 #include "hedra/core/predicates.h"
+#include "hedra/core/tolerance.h"
 
 namespace hedra {
 namespace {
@@ -30,12 +34,43 @@ struct UnionFind {
   }
 };
 
+// Whether a face with these loops passes Body's planarity check with room to spare: every
+// vertex within half of kRoundingPlanarity times the loops' own scale (smaller than the body's)
+// of the plane through the outer loop's vertex average with the Newell normal, as Body computes
+// it; vertices exactly on the support triple's plane pass, as in Body. Cost O(loop sizes).
+bool planar_after_rounding(const std::vector<Vec3>& v, const std::vector<std::vector<int>>& loops) {
+  const Vec3 normal = newell_normal(v, loops);
+  const double length = normal.norm();
+  if (!(length > 0)) return false;
+  const Vec3 unit = normal / length;
+  Vec3 centre = Vec3::Zero();
+  for (int w : loops[0]) centre += v[w];
+  centre /= static_cast<double>(loops[0].size());
+  Eigen::AlignedBox3d box;
+  double largest = 0;
+  for (const auto& loop : loops)
+    for (int w : loop) {
+      box.extend(v[w]);
+      largest = std::max(largest, v[w].cwiseAbs().maxCoeff());
+    }
+  const double tolerance = 0.5 * kRoundingPlanarity * std::max(largest, box.diagonal().norm());
+  const std::array<int, 3> s = support_triple(v, loops[0], normal);
+  if (s[2] < 0 || collinear(v[s[0]], v[s[1]], v[s[2]])) return false;
+  for (const auto& loop : loops)
+    for (int w : loop) {
+      if (w == s[0] || w == s[1] || w == s[2]) continue;
+      if (orient3d(v[s[0]], v[s[1]], v[s[2]], v[w]) == Sign::Zero) continue;  // exactly planar
+      if (std::abs(unit.dot(v[w] - centre)) > tolerance) return false;
+    }
+  return true;
+}
+
 }  // namespace
 
 namespace {
 
-std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_ids,
-                        const MergeOptions& options) {
+std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* plane_ids,
+                             const MergeOptions& options) {
   // Step 1: drop vertices no polygon uses, then the combinatorial checks on the soup.
   PolygonSoup soup;
   {
@@ -67,9 +102,15 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
   std::vector<std::array<int, 3>> supports(n);
   for (int p = 0; p < n; ++p) {
     normals[p] = newell_normal(v, polys[p]);
-    supports[p] = normals[p].isZero() ? std::array<int, 3>{-1, -1, -1}
-                                      : support_triple(v, polys[p], normals[p]);
-    if (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]]))
+    // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
+    // triangles, such as the corner faces of decomposition pieces written to files.
+    supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
+                                                  : support_triple(v, polys[p], normals[p]);
+    // With caller-given planes (exact pieces rounded to double), a triangle that rounding made
+    // flat is still a known part of its plane's region and vanishes in the merged face; only
+    // the faces built in the end must have area (Body checks them).
+    if (!plane_ids &&
+        (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]])))
       throw InvalidInput("polygon " + std::to_string(p) + " has zero area");
   }
   std::unordered_map<std::uint64_t, int> owner;  // directed edge -> polygon
@@ -117,6 +158,88 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
   std::vector<std::vector<int>> members(regions);
   for (int p = 0; p < n; ++p) members[region[p]].push_back(p);
 
+  // Step 3b (snapping, a positive coplanar tolerance without a planarity tolerance): a region
+  // grown within the tolerance is not planar. It gets the plane fitted to it (area-weighted
+  // normal, mean offset), and every vertex of such a region moves to the least-squares nearest
+  // point on the planes of all regions around it (minimum-norm correction; on three or fewer
+  // independent planes it lies on all of them), but only when that moves it by at most the
+  // tolerance: the certified bound. Vertices of exactly planar regions only stay put.
+  const bool snap = !plane_ids && options.coplanar_tolerance > 0 && options.planarity_tolerance < 0;
+  std::vector<Vec3> moved;
+  if (snap) {
+    moved = v;
+    std::vector<char> loose(regions, 0);
+    std::vector<Vec3> plane_normal(regions, Vec3::Zero());
+    std::vector<double> plane_offset(regions, 0);
+    for (int r = 0; r < regions; ++r) {
+      const auto& sup = supports[seeds[r]];
+      std::vector<int> corners;
+      for (int p : members[r]) {
+        plane_normal[r] += normals[p];
+        for (int w : polys[p]) {
+          corners.push_back(w);
+          if (orient3d(v[sup[0]], v[sup[1]], v[sup[2]], v[w]) != Sign::Zero) loose[r] = 1;
+        }
+      }
+      std::sort(corners.begin(), corners.end());
+      corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+      if (!loose[r]) plane_normal[r] = normals[seeds[r]];
+      plane_normal[r].normalize();
+      if (loose[r]) {
+        for (int w : corners) plane_offset[r] += plane_normal[r].dot(v[w]);
+        plane_offset[r] /= static_cast<double>(corners.size());
+      } else {
+        plane_offset[r] = plane_normal[r].dot(v[sup[0]]);
+      }
+    }
+    // Regions far apart on one plane within the tolerance (the walls of a row of holes) share
+    // the first one's plane, so that later steps see one plane, as in the aligned part.
+    // O(R²) normal comparisons for R regions, corners checked only for parallel pairs.
+    {
+      std::vector<std::vector<int>> corners_of(regions);
+      for (int r = 0; r < regions; ++r) {
+        for (int p : members[r]) corners_of[r].insert(corners_of[r].end(), polys[p].begin(), polys[p].end());
+        std::sort(corners_of[r].begin(), corners_of[r].end());
+        corners_of[r].erase(std::unique(corners_of[r].begin(), corners_of[r].end()), corners_of[r].end());
+      }
+      std::vector<char> taken(regions, 0);
+      for (int r = 0; r < regions; ++r) {
+        if (taken[r]) continue;
+        for (int q = r + 1; q < regions; ++q) {
+          if (taken[q] || plane_normal[r].dot(plane_normal[q]) < 1 - 1e-6) continue;
+          bool same = true;
+          for (int w : corners_of[q])
+            same = same && std::abs(plane_normal[r].dot(v[w]) - plane_offset[r]) <= options.coplanar_tolerance;
+          if (!same) continue;
+          taken[q] = 1;
+          plane_normal[q] = plane_normal[r];
+          plane_offset[q] = plane_offset[r];
+          loose[q] = loose[r] = 1;
+        }
+      }
+    }
+    std::vector<std::vector<int>> around(v.size());
+    for (int p = 0; p < n; ++p)
+      for (int w : polys[p]) around[w].push_back(region[p]);
+    for (size_t w = 0; w < v.size(); ++w) {
+      auto& rs = around[w];
+      std::sort(rs.begin(), rs.end());
+      rs.erase(std::unique(rs.begin(), rs.end()), rs.end());
+      if (std::none_of(rs.begin(), rs.end(), [&](int r) { return loose[r] != 0; })) continue;
+      Eigen::MatrixXd normals_at(rs.size(), 3);
+      Eigen::VectorXd residual(rs.size());
+      for (size_t i = 0; i < rs.size(); ++i) {
+        normals_at.row(static_cast<Eigen::Index>(i)) = plane_normal[rs[i]].transpose();
+        residual[static_cast<Eigen::Index>(i)] = plane_offset[rs[i]] - plane_normal[rs[i]].dot(v[w]);
+      }
+      Eigen::JacobiSVD<Eigen::MatrixXd> svd(normals_at, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      svd.setThreshold(1e-9);
+      const Vec3 step = svd.solve(residual);
+      if (step.allFinite() && step.norm() <= options.coplanar_tolerance) moved[w] = v[w] + step;
+    }
+  }
+  const std::vector<Vec3>& mv = snap ? moved : v;
+
   // Step 4: each region's boundary loops become one face (outer loop first, then holes).
   // A region whose boundary touches itself, or that has several outer loops, stays split.
   std::vector<std::vector<Face>> faces_of_region(regions);
@@ -148,12 +271,18 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
           a = next[a].first;
         }
         if (a != a0) { pinched = true; break; }
-        bool outer = newell_normal(v, loop).dot(normal) > 0;
+        bool outer = newell_normal(mv, loop).dot(normal) > 0;
         outers += outer;
         if (outer) loops.insert(loops.begin(), std::move(loop));
         else loops.push_back(std::move(loop));
       }
     }
+    // Caller-given planes are exact planes of points that were rounded since: a region so thin
+    // that rounding tilts it (a sliver of a cut through nearly coplanar faces, a few 1e-9 wide)
+    // would fail the body's planarity check as one face. Its polygons, each exactly planar in
+    // double when a triangle, are kept instead.
+    if ((plane_ids || snap) && !pinched && outers == 1 && !planar_after_rounding(mv, loops))
+      pinched = true;
     if (pinched || outers != 1) {
       for (int p : members[r]) faces_of_region[r].emplace_back(polys[p]);
     } else {
@@ -226,7 +355,7 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
     for (size_t w = 0; w < v.size(); ++w)
       if (remap[w] == 0) {
         remap[w] = static_cast<int>(vertices.size());
-        vertices.push_back(v[w]);
+        vertices.push_back(mv[w]);
       }
     std::vector<Face> faces;
     for (int r : component_regions[c])
@@ -243,6 +372,22 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
     }
   }
   return bodies;
+}
+
+// Snapping (see merge_once) always gives a valid body for a valid input: where the snapped
+// faces fail validation (a vertex that could not move within the tolerance, a merged face
+// that rounding leaves non-planar), the soup is merged exactly instead, as without tolerance.
+std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_ids,
+                        const MergeOptions& options) {
+  if (plane_ids || !(options.coplanar_tolerance > 0) || options.planarity_tolerance >= 0)
+    return merge_once(input, plane_ids, options);
+  try {
+    return merge_once(input, plane_ids, options);
+  } catch (const InvalidInput&) {
+    MergeOptions exact = options;
+    exact.coplanar_tolerance = 0;
+    return merge_once(input, plane_ids, exact);
+  }
 }
 
 }  // namespace

@@ -119,12 +119,19 @@ std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& ver
       const size_t n = loop.size();
       size_t apex = 0;  // a strictly convex corner
       while (orient2d(p[(apex + n - 1) % n], p[apex], p[(apex + 1) % n]) != Sign::Positive) ++apex;
-      for (size_t k = 1; k + 1 < n; ++k) {
+      bool flat = false;
+      for (size_t k = 1; k + 1 < n && !flat; ++k) {
         size_t i = (apex + k) % n, j = (apex + k + 1) % n;
         if (orient2d(p[apex], p[i], p[j]) == Sign::Positive)
           out.push_back({loop[apex], loop[i], loop[j]});
+        else
+          flat = true;
       }
-      return out;
+      // A flat fan triangle (the apex in line with a straight run of the loop) would leave a
+      // loop vertex out of the triangulation, and the body's triangles would not be closed
+      // there: the general path keeps every vertex.
+      if (!flat) return out;
+      out.clear();
     }
   }
 

@@ -33,8 +33,10 @@ struct Decomposition {
   int merges = 0;            // pieces joined by the merge pass (DecomposeOptions::merge)
   bool verified = false;     // exact checks passed (only with DecomposeOptions::verify)
   double exact_volume = 0;   // input volume from the exact computation (with verify)
-  /// Pieces that could not be represented in double (decompose_cgal only: CGAL's exact pieces
-  /// include slivers whose corners coincide after rounding). Not in `pieces`.
+  /// Pieces that could not be represented in double: exact pieces whose rounded corners are
+  /// all coplanar (slivers thinner than rounding everywhere; their volume is below rounding),
+  /// and CGAL's slivers whose corners coincide after rounding (decompose_cgal). Not in
+  /// `pieces`.
   int degenerate_pieces = 0;
 };
 
@@ -56,6 +58,11 @@ std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges = nu
 /// its own faces' planes symbolically even when rotated coordinates put it a few ulps off.
 /// Input faces whose planes coincide within rounding (kRoundingPlanarity) share one plane.
 /// A convex input comes back as one piece, unchanged. Deterministic for any thread count.
+/// Rounding, once at the end: each piece is the exact piece rounded to double with its faces
+/// merged by plane; where rounding breaks a face (slivers of cuts through nearly coplanar
+/// faces, e.g. a rotated float32 STL), the convex hull of the piece's rounded corners, within
+/// half an ulp per coordinate of the exact piece; a piece whose rounded corners are coplanar
+/// is left out and counted in degenerate_pieces. Never fails on a valid body.
 /// \throw InvalidInput when more than options.max_pieces pieces are needed.
 /// \throw DecompositionCancelled when the progress callback returns false.
 Decomposition decompose(const Body& body, const DecomposeOptions& options = {});

@@ -16,10 +16,17 @@ struct PolygonSoup {
 };
 
 struct MergeOptions {
-  /// 0 (default): merge only exactly coplanar neighbours (exact predicates). Positive: also
-  /// neighbours whose vertices lie within this distance of the region's first plane.
+  /// 0 (default): merge only exactly coplanar neighbours (exact predicates). Positive (D): also
+  /// neighbours whose vertices lie within D of the region's first plane; with the default
+  /// planarity_tolerance the merged faces are then made planar (the `--tolerance D` of the
+  /// command): each such region gets its fitted plane and each of its vertices moves to the
+  /// nearest point on the planes of its faces, by at most D (certified; a vertex that would
+  /// move farther stays). Every output vertex is within D of its input position, so the
+  /// surface moves by at most D. Where the snapped faces are not a valid body, the soup is
+  /// merged exactly instead: a valid input always gives valid bodies.
   double coplanar_tolerance = 0;
-  /// Passed to the bodies built (see BodyOptions).
+  /// Passed to the bodies built (see BodyOptions). Non-negative: no snapping, faces accepted
+  /// this far from planar (the bodies are then only valid with this tolerance).
   double planarity_tolerance = -1;
 };
 
