@@ -4,23 +4,15 @@
 #include <chrono>
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/info.h"
 #include "hedra/io/atomic_file.h"
+#include "hedra/io/report_json.h"
 #include "hedra/core/error.h"
 #include "hedra/visibility/roberts.h"
 #include "hedra/render/svg.h"
 
 namespace hedra::cli {
 namespace {
-
-nlohmann::json segments_json(const std::vector<HlrSegment>& list, LineKind kind) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const HlrSegment& s : list)
-    if (s.kind == kind) out.push_back({s.a.x(), s.a.y(), s.a.z(), s.b.x(), s.b.y(), s.b.z()});
-  return out;
-}
 
 SvgStyle style_of(const Scene& scene, bool hidden) {
   SvgStyle style;
@@ -64,12 +56,7 @@ void run_hlr(const HlrCommand& command, std::ostream& out) {
     svg = hidden_lines_svg(result, style);
   }
   if (!command.json_file.empty()) {
-    nlohmann::json j;
-    j["visible"] = segments_json(result.visible, LineKind::Edge);
-    j["hidden"] = segments_json(result.hidden, LineKind::Edge);
-    j["junction"] = segments_json(result.visible, LineKind::Junction);
-    j["ms"] = ms;
-    json = j.dump() + "\n";
+    json = io::hidden_lines_json(result, ms) + "\n";
   }
   io::OutputTransaction outputs;  // both files or neither
   if (!command.svg_file.empty()) outputs.add(command.svg_file, svg);
