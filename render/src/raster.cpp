@@ -509,6 +509,15 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
       scan_mask(*mask, raster.grid, options.tile_size);
       st.shadow_polygons = static_cast<int>(mask->polygons.size());
     } else if (method == ShadowSettings::Method::Map) {
+      // All maps live at once: bounded before any is allocated (a point light takes six).
+      const long long side = options.shadows.map_resolution;
+      long long texels = 0;
+      for (const Light& l : scene.lights) texels += (l.type == Light::Type::Point ? 6 : 1) * side * side;
+      if (texels > kMaxShadowMapTexels)
+        throw InvalidInput("shadow maps of " + std::to_string(side) + "² texels for " +
+                           std::to_string(scene.lights.size()) + " light(s) need " +
+                           std::to_string(texels) + " texels, more than " +
+                           std::to_string(kMaxShadowMapTexels) + " (give a smaller map:RES)");
       for (const Light& l : scene.lights)
         maps.push_back(std::make_unique<ShadowMap>(geometry, l, options.shadows.map_resolution,
                                                    options.shadows.map_bias));

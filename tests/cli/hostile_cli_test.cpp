@@ -117,6 +117,18 @@ TEST(HostileCli, BadOptionValuesAreUsageErrorsNamingTheOption) {
   EXPECT_FALSE(fs::exists(dir / "o.off"));
 }
 
+// Shadow maps of every light live at once: a point light at map:16384 needs 1.6 G texels.
+TEST(HostileCli, ShadowMapMemoryIsBounded) {
+  const fs::path dir = temp_dir("maps");
+  const std::string scene = write(dir / "point.json", R"({"version": 1,
+    "bodies": [{"name": "b", "box": {"min": [0, 0, 0], "max": [1, 1, 1]}}],
+    "lights": [{"type": "point", "position": [3, 3, 3]}], "image": {"width": 32, "height": 24}})");
+  const Result r = run("render " + scene + " -o " + (dir / "x.png").string() + " --shadows map:16384");
+  expect_error(r, 3, "need 1610612736 texels, more than 268435456", "map:16384");
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
+  EXPECT_EQ(run("render " + scene + " -o " + (dir / "x.png").string() + " --shadows map:256").code, 0);
+}
+
 TEST(HostileCli, SunStudyGridSpacingIsBounded) {
   const fs::path dir = temp_dir("grid");
   const std::string scene = write(dir / "sun.json", R"({"version": 1,

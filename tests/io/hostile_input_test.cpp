@@ -162,6 +162,18 @@ TEST(HostileIo, PrismHoleTouchingItsOutlineIsRejected) {
   EXPECT_EQ(io::read_bodies((dir / "p.off").string()).at(0).volume(), 8.0);
 }
 
+// Fuzz finding (tests/fuzz/commands_fuzz.cpp): an outline that turns back on itself (a spike
+// of zero width, here (1, 1) → (1, 6) → (1, 3)) built a body with back-to-back faces, and
+// decompose then failed with std::logic_error "a piece is not closed" (exit 1).
+TEST(HostileIo, PrismOutlineSpikeIsRejected) {
+  std::string m = message_of([] { prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 6}, {1, 3}}, 0, 2); });
+  EXPECT_EQ(m, "prism outline turns back on itself at (1, 6): a spike of zero width");
+  m = message_of([] { prism({{0, 0}, {2, 0}, {1, 0}, {1, 1}}, 0, 1); });
+  EXPECT_EQ(m, "prism outline turns back on itself at (2, 0): a spike of zero width");
+  // Collinear vertices strictly between their neighbours are still dropped.
+  EXPECT_EQ(prism({{0, 0}, {1, 0}, {2, 0}, {2, 2}, {0, 2}}, 0, 1).face_count(), 6);
+}
+
 TEST(HostileIo, OutputTransactionIsAllOrNothing) {
   const fs::path dir = temp_dir("transaction");
   {

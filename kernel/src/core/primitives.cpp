@@ -49,11 +49,17 @@ Polygon2 clean(Polygon2 p, bool ccw, const std::string& what) {
       const Vec2& b = p[i];
       const Vec2& c = p[(i + 1) % p.size()];
       if (a == b || orient2d(a, b, c) == Sign::Zero) {
-        // Collinear b: drop it unless it is a spike (a reversal), which stays and fails later.
-        if (a == b || (b - a).dot(c - b) > 0) {
-          p.erase(p.begin() + static_cast<long>(i));
-          changed = true;
-        }
+        // Collinear b: dropped when it lies strictly between a and c (exact coordinate
+        // comparisons). Otherwise the outline turns back on itself: a spike of zero width,
+        // which makes back-to-back side faces that no later stage can split (fuzz finding:
+        // decompose failed with "a piece is not closed").
+        const int k = a.x() != c.x() ? 0 : 1;
+        const bool between = a == b || (std::min(a[k], c[k]) < b[k] && b[k] < std::max(a[k], c[k]));
+        if (!between)
+          throw InvalidInput(what + " turns back on itself at (" + number(b.x()) + ", " +
+                             number(b.y()) + "): a spike of zero width");
+        p.erase(p.begin() + static_cast<long>(i));
+        changed = true;
       }
     }
   }

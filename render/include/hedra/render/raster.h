@@ -73,6 +73,9 @@ using SurfaceShadows = std::vector<std::vector<SurfaceShadow>>;
 /// Most pixels of one image (8192²): bounds the image buffers (3 bytes per pixel) whatever
 /// the scene file or the options ask for.
 constexpr long long kMaxImagePixels = 1LL << 26;
+/// Most shadow-map texels of one render, all lights together (a point light has six maps):
+/// `map:16384` with one point light would need 1.6 G texels.
+constexpr long long kMaxShadowMapTexels = 1LL << 28;
 
 struct RenderOptions {
   /// Image size; 0 takes the scene camera's (the scene file's "image").
