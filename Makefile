@@ -5,8 +5,10 @@ JOBS       ?= 2
 CMAKE_ARGS ?=
 
 BENCH_BUILD ?= build-bench
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_SECONDS ?= 60
 
-.PHONY: all deps build demo test test-asan bench-build bench bench-quick clean
+.PHONY: all deps build demo test test-asan bench-build bench bench-quick fuzz-build fuzz clean
 
 all: build
 
@@ -42,5 +44,16 @@ bench: bench-build
 bench-quick: bench-build
 	HEDRA_BENCH_QUICK=1 bash scripts/run-bench.sh $(BENCH_BUILD)
 
+# libFuzzer targets (clang, ASan + UBSan) for every reader and for scene -> commands, each run
+# FUZZ_SECONDS on its seed corpus (tests/fuzz/corpus); fails on any finding.
+fuzz-build:
+	bash scripts/install-deps.sh clang libclang-rt-14-dev
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DHEDRA_BUILD_FUZZ=ON \
+	  -DHEDRA_BUILD_TESTS=OFF -DHEDRA_BUILD_EXAMPLES=OFF -DHEDRA_WITH_TETGEN=OFF $(CMAKE_ARGS) > /dev/null
+	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target hedra_fuzzers
+
+fuzz: fuzz-build
+	bash scripts/run-fuzz.sh $(FUZZ_BUILD) $(FUZZ_SECONDS)
+
 clean:
-	rm -rf $(BUILD) $(ASAN_BUILD) $(BENCH_BUILD)
+	rm -rf $(BUILD) $(ASAN_BUILD) $(BENCH_BUILD) $(FUZZ_BUILD)

@@ -1,11 +1,11 @@
 // Clipping benchmarks (issue 4), in one run:
 //  - throughput: batch Cyrus–Beck against a 6-face box and a 20-face icosahedron on 10 M random
 //    segments (2 M with HEDRA_BENCH_QUICK), with 1 and 2 threads, next to the plain scalar loop
-//    (the course's algorithm in double, one segment at a time), the exact scalar path, and a
-//    memory copy of the same segment data (the bandwidth roofline);
-//  - speed against accuracy: exact Cyrus–Beck, plain double, and midpoint subdivision at
-//    ε = 1e-2 … 1e-12, each against exact rational results (tests/clip_fixtures.h), on random
-//    segments and on segments built through vertices, along edges and in face planes.
+//    (the course's algorithm, docs/algorithms.md §4, in double, one segment at a time), the exact
+//    scalar path, and a memory copy of the same segment data (the bandwidth roofline);
+//  - speed against accuracy: exact Cyrus–Beck, plain double, and midpoint subdivision at ε = 1e-2 …
+//    1e-12, each against exact rational results (tests/testing/clip_fixtures.h), on random segments
+//    and on segments built through vertices, along edges and in face planes.
 // scripts/clip_report.py turns the JSON output into the "Clipping" section of docs/benchmarks.md.
 #include <benchmark/benchmark.h>
 #include <tbb/blocked_range.h>

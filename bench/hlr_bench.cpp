@@ -4,7 +4,7 @@
 //    (direction (−1, −1, −1)) and perspective (eye on the diagonal above the grid's centre), a
 //    regular grid (boxes 10 × 10 × 20 at pitch 15: edges align in the picture), two boxes
 //    interpenetrating at a corner, and a bar piercing a cube; its visible length is checked
-//    against the ray-cast reference of the tests (tests/hlr_reference.h);
+//    against the ray-cast reference of the tests (tests/testing/hlr_reference.h);
 //  - an image-space method: a z-buffer of the faces at 512², 1024², 2048², edges sampled
 //    every half pixel and tested against it (3 × 3 neighbourhood, small depth bias); missed and
 //    extra visible length against hedra's exact result;
@@ -150,7 +150,7 @@ void BM_Hedra(benchmark::State& state) {
   auto key = std::make_tuple(kind, n, perspective);
   if (!checked.count(key)) {
     // Uniform samples plus the middles of hedra's parts and gaps, each classified by the
-    // reference on its own (tests/hlr_reference.h), transitions bisected.
+    // reference on its own (tests/testing/hlr_reference.h), transitions bisected.
     const testing::RayCastReference reference(s.bodies, s.camera);
     const HlrResult& per_edge = exact(kind, n, perspective);
     double expected = 0;

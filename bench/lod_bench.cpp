@@ -1,4 +1,4 @@
-// Level-of-detail benchmarks (design.md "Model no more than a scene needs"), in one run:
+// Level-of-detail benchmarks (docs/design.md, "Model no more than a scene needs"), in one run:
 //  - chordal tolerance against the measured geometric error and the cost: sphere, cylinder and
 //    cone of radius 1 (height 2) at tolerances 1e-1 … 3e-4 of the radius (quick: … 1e-3). For each: the faces the
 //    tessellation got, the largest distance from the polyhedron's surface to the true surface

@@ -1,13 +1,13 @@
 // Rendering benchmarks (issue 8), in one run, on 2 threads:
 //  - time per image at 1024 × 1024, Phong, for each shadow method: none, exact (shadow
-//    polygons from kernel/shadows as surface detail; the time includes computing them),
+//    polygons from hedra/visibility/shadows.h as surface detail; the time includes computing them),
 //    shadow maps at 512² … 4096² with biases 0.5 … 4 texels, shadow rays at 1 … 16 probes per
 //    pixel; scenes: the N × N city of issue 7 (N = 10, 40) and the demo scene;
 //  - accuracy against the exact method, measured once per configuration outside the timed
 //    loop: the fraction of visible pixels whose shadow state (shadowed when at least half the
 //    probes are blocked) differs from the exact method's at the same pixel centre, and the
 //    relative error of the shadowed ground area measured from a top view against the exact
-//    area of kernel/shadows (the ground's shadow polygons, footprints included).
+//    area of hedra/visibility/shadows.h (the ground's shadow polygons, footprints included).
 // scripts/render_report.py turns the JSON output into the "Rendering" section of
 // docs/benchmarks.md and the speed–accuracy chart.
 #include <benchmark/benchmark.h>

@@ -1,6 +1,7 @@
-// Shadow benchmarks (issue 7), side by side in one run, on the city of design.md: a ground slab
-// [0, 100]² (top at z = 0) and an N × N grid of boxes (cell p = 100/N, footprint 0.2p … 0.8p,
-// heights p/4 … 9p/8 from a fixed seed), the sun travelling along (−1, −2, −3); N = 10 and 40.
+// Shadow benchmarks (issue 7), side by side in one run, on the city of docs/design.md ("Targets"):
+// a ground slab [0, 100]² (top at z = 0) and an N × N grid of boxes (cell p = 100/N, footprint 0.2p
+// … 0.8p, heights p/4 … 9p/8 from a fixed seed), the sun travelling along (−1, −2, −3); N = 10 and
+// 40.
 //  - hedra: exact shadow polygons on every face (ground, facades, roofs), 2 threads and 1;
 //  - CGAL: the exact 2D union (Epeck Polygon_set_2) of the ground shadows, each box's being the
 //    hull of its base and its top projected along the light, clipped to the ground: the exact

@@ -6,6 +6,8 @@
 #include <vector>
 
 #include "cli/info.h"
+#include "cli/segments.h"
+#include "cli/usage.h"
 #include "hedra/io/atomic_file.h"
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/text_reader.h"
@@ -20,34 +22,13 @@
 namespace hedra::cli {
 namespace {
 
-struct Segment {
-  Vec3 p1, p2;
-  int line;
-};
-
 // A part of a segment as parameters on it.
 struct Interval {
   double t0, t1;
 };
 
 std::vector<Segment> read_segments(const std::string& path) {
-  io::TextReader reader(path, io::read_file(path));
-  static constexpr const char* kNames[6] = {"x1", "y1", "z1", "x2", "y2", "z2"};
-  std::vector<Segment> segments;
-  while (reader.next_line()) {
-    const size_t fields = reader.tokens().size();
-    if (fields != 6)
-      reader.fail("expected 6 numbers (x1 y1 z1 x2 y2 z2), got " + std::to_string(fields) +
-                  (fields == 1 ? " field" : " fields"));
-    double v[6];
-    for (size_t i = 0; i < 6; ++i) {
-      v[i] = reader.number(i, kNames[i]);
-      if (std::abs(v[i]) > kMaxAbsCoordinate)
-        reader.fail(std::string(kNames[i]) + " is beyond ±1e75");
-    }
-    segments.push_back({Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]), reader.line_number()});
-  }
-  return segments;
+  return parse_segments(path, io::read_file(path));
 }
 
 std::string face_list(const std::vector<int>& faces) {
@@ -136,8 +117,8 @@ CLI::App* add_clip_subcommand(CLI::App& app, ClipCommand& command) {
   CLI::App* clip = app.add_subcommand(
       "clip", "Clip segments (x1 y1 z1 x2 y2 z2 per line) against a convex body or convex pieces");
   clip->add_option("--body", command.body_file,
-                   "mesh file: one convex body, or several convex bodies as the pieces of one "
-                   "clipper")
+                   "scene or mesh file: one convex body, or several convex bodies as the pieces "
+                   "of one clipper")
       ->required();
   clip->add_option("--segments", command.segments_file, "input segments, one per line")->required();
   clip->add_option("-o,--output", command.output_file,
@@ -147,7 +128,7 @@ CLI::App* add_clip_subcommand(CLI::App& app, ClipCommand& command) {
   clip->add_option("--method", command.method, "cyrus-beck (exact decisions) or midpoint")
       ->check(CLI::IsMember({"cyrus-beck", "midpoint"}));
   clip->add_option("--eps", command.eps, "midpoint precision (default: 1e-9 times the body's size)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_number(true));
   return clip;
 }
 

@@ -4,23 +4,15 @@
 #include <chrono>
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/info.h"
 #include "hedra/io/atomic_file.h"
+#include "hedra/io/report_json.h"
 #include "hedra/core/error.h"
 #include "hedra/visibility/roberts.h"
 #include "hedra/render/svg.h"
 
 namespace hedra::cli {
 namespace {
-
-nlohmann::json segments_json(const std::vector<HlrSegment>& list, LineKind kind) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const HlrSegment& s : list)
-    if (s.kind == kind) out.push_back({s.a.x(), s.a.y(), s.a.z(), s.b.x(), s.b.y(), s.b.z()});
-  return out;
-}
 
 SvgStyle style_of(const Scene& scene, bool hidden) {
   SvgStyle style;
@@ -36,7 +28,7 @@ SvgStyle style_of(const Scene& scene, bool hidden) {
 CLI::App* add_hlr_subcommand(CLI::App& app, HlrCommand& command) {
   CLI::App* hlr = app.add_subcommand(
       "hlr", "Hidden-line drawing of a scene (Roberts, exact): SVG and JSON segment lists");
-  hlr->add_option("scene", command.scene_file, "scene file (.json)")->required();
+  hlr->add_option("scene", command.scene_file, "scene or mesh file")->required();
   hlr->add_option("-o,--output", command.svg_file, "write the drawing (SVG)");
   hlr->add_flag("--hidden", command.hidden, "also hidden lines: dashed in the SVG, listed in the JSON");
   hlr->add_option("--json", command.json_file, "write the segments as JSON");
@@ -64,15 +56,12 @@ void run_hlr(const HlrCommand& command, std::ostream& out) {
     svg = hidden_lines_svg(result, style);
   }
   if (!command.json_file.empty()) {
-    nlohmann::json j;
-    j["visible"] = segments_json(result.visible, LineKind::Edge);
-    j["hidden"] = segments_json(result.hidden, LineKind::Edge);
-    j["junction"] = segments_json(result.visible, LineKind::Junction);
-    j["ms"] = ms;
-    json = j.dump() + "\n";
+    json = io::hidden_lines_json(result, ms) + "\n";
   }
-  if (!command.svg_file.empty()) io::write_file_atomically(command.svg_file, svg);
-  if (!command.json_file.empty()) io::write_file_atomically(command.json_file, json);
+  io::OutputTransaction outputs;  // both files or neither
+  if (!command.svg_file.empty()) outputs.add(command.svg_file, svg);
+  if (!command.json_file.empty()) outputs.add(command.json_file, json);
+  outputs.commit();
 
   size_t edges = 0, junctions = 0;
   for (const HlrSegment& s : result.visible) (s.kind == LineKind::Edge ? edges : junctions) += 1;

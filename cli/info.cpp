@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <set>
 
+#include "cli/usage.h"
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/scene_json.h"
 #include "hedra/mesh/convexity.h"
@@ -16,6 +17,11 @@ std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.10g", v);
   return buf;
+}
+
+// The name column: at least 12 characters wide, left-aligned, longer names kept whole.
+std::string pad(const std::string& name) {
+  return name.size() >= 12 ? name : name + std::string(12 - name.size(), ' ');
 }
 
 std::string join(const std::vector<int>& ids) {
@@ -51,29 +57,31 @@ nlohmann::json info_json(const std::vector<NamedBody>& bodies, bool with_matrix)
 }
 
 void print_info_table(std::ostream& out, const std::vector<NamedBody>& bodies, bool with_matrix) {
-  char line[512];
-  std::snprintf(line, sizeof line, "%-12s %8s %6s %6s %6s %14s %14s %6s  %s\n", "body", "vertices",
-                "edges", "faces", "closed", "volume", "area", "convex", "non-convex faces");
-  out << line;
+  // The name and the list of non-convex faces have no length limit: they are written as
+  // strings around the fixed-width columns, so a long row is never cut.
+  char line[256];
+  std::snprintf(line, sizeof line, "%8s %6s %6s %6s %14s %14s %6s  %s\n", "vertices", "edges",
+                "faces", "closed", "volume", "area", "convex", "non-convex faces");
+  out << pad(std::string("body")) << " " << line;
   for (const NamedBody& nb : bodies) {
     const Body& b = nb.body;
     ConvexityReport c = convexity(b);
-    std::snprintf(line, sizeof line, "%-12s %8d %6d %6d %6s %14s %14s %6s  %s\n", nb.name.c_str(),
-                  b.vertex_count(), b.edge_count(), b.face_count(), "yes", num(b.volume()).c_str(),
-                  num(b.area()).c_str(), c.convex ? "yes" : "no", join(c.nonconvex_faces).c_str());
-    out << line;
+    std::snprintf(line, sizeof line, "%8d %6d %6d %6s %14s %14s %6s  ", b.vertex_count(),
+                  b.edge_count(), b.face_count(), "yes", num(b.volume()).c_str(),
+                  num(b.area()).c_str(), c.convex ? "yes" : "no");
+    out << pad(sanitize_message(nb.name)) << " " << line << join(c.nonconvex_faces) << "\n";
   }
   bool any_lod = false;
   for (const NamedBody& nb : bodies) {
     if (nb.lod_note.empty()) continue;
     if (!any_lod) out << "\nlevel of detail:\n";
     any_lod = true;
-    out << "  " << nb.name << ": " << nb.lod_note << "\n";
+    out << "  " << sanitize_message(nb.name) << ": " << nb.lod_note << "\n";
   }
   for (const NamedBody& nb : bodies) {
     const Body& b = nb.body;
     if (!with_matrix && b.face_count() > kSmallBodyFaces) continue;
-    out << "\nbody matrix of " << nb.name << " (4 x " << b.face_count()
+    out << "\nbody matrix of " << sanitize_message(nb.name) << " (4 x " << b.face_count()
         << "; column j = a, b, c, d of face j, inner normals):\n";
     for (int row = 0; row < 4; ++row) {
       out << "  " << "abcd"[row] << " ";

@@ -11,6 +11,7 @@
 #include "cli/info.h"
 #include "cli/render.h"
 #include "cli/shadows.h"
+#include "cli/usage.h"
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/scene_json.h"
 #include "hedra/decompose/decompose.h"
@@ -21,6 +22,11 @@ namespace {
 
 constexpr int kExitUsage = 2;
 constexpr int kExitInvalidInput = 3;
+
+int fail(const std::string& message, int code) {
+  std::cerr << "hedra: error: " << hedra::cli::sanitize_message(message) << "\n";
+  return code;
+}
 
 }  // namespace
 
@@ -33,27 +39,31 @@ int main(int argc, char** argv) {
   bool info_json = false, info_matrix = false;
   double tolerance = 0;
   CLI::App* info = app.add_subcommand("info", "Report the bodies of a scene (.json) or mesh file (OFF, OBJ, STL, PLY)");
-  info->add_option("file", info_file, "mesh file")->required();
+  info->add_option("file", info_file, "scene or mesh file")->required();
   info->add_flag("--json", info_json, "print JSON instead of a table");
   info->add_flag("--matrix", info_matrix, "print the body matrix of every body");
 
   std::string convert_in, convert_out;
   bool stl_ascii = false;
   CLI::App* convert = app.add_subcommand("convert", "Convert between OFF, OBJ, STL, PLY and scene JSON");
-  convert->add_option("in", convert_in, "input mesh")->required();
-  convert->add_option("out", convert_out, "output mesh (format from its extension)")->required();
+  convert->add_option("in", convert_in, "input scene or mesh file")->required();
+  convert->add_option("out", convert_out, "output scene or mesh file (format from its extension)")
+      ->required();
   convert->add_flag("--stl-ascii", stl_ascii, "write ASCII STL instead of binary");
 
   hedra::cli::DecomposeCommand dec;
   CLI::App* decompose = app.add_subcommand(
       "decompose", "Split non-convex bodies into convex pieces (mesh file, or every non-convex body of a scene)");
   decompose->add_option("file", dec.file, "scene or mesh file")->required();
-  decompose->add_option("--method", dec.method, "planes (exact, default) | float | tetgen | cgal");
-  decompose->add_option("--eps", dec.epsilon, "float method: tolerance relative to the body's size");
+  decompose->add_option("--method", dec.method, "planes (exact, default) | float | tetgen | cgal")
+      ->check(CLI::IsMember({"planes", "float", "tetgen", "cgal"}));
+  decompose->add_option("--eps", dec.epsilon, "float method: tolerance relative to the body's size")
+      ->check(hedra::cli::finite_number(true));
   decompose->add_flag("--merge", dec.merge, "join adjacent pieces whose union is convex");
-  decompose->add_option("-o", dec.out_dir, "write one OFF file per piece into this directory");
+  decompose->add_option("-o", dec.out_dir,
+                        "write one OFF file per piece into this directory (made whole or not at all)");
   decompose->add_flag("--json", dec.json, "print JSON");
-  decompose->add_option("--threads", dec.threads, "worker threads (default: all)");
+  hedra::cli::add_threads_option(*decompose, dec.threads);
 
   hedra::cli::ClipCommand clip_args;
   CLI::App* clip = hedra::cli::add_clip_subcommand(app, clip_args);
@@ -69,20 +79,39 @@ int main(int argc, char** argv) {
 
   CLI::App* demo = app.add_subcommand("demo", "Build the embedded demo scene and report on it");
 
+  // An unknown first word is named (CLI11 would only say that a subcommand is required).
+  if (argc >= 2 && argv[1][0] != '-' && argv[1][0] != '\0') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+      known = known || sub->get_name() == argv[1];
+    }
+    if (!known)
+      return fail(std::string("unknown command '") + argv[1] + "' (expected one of: " + names + ")",
+                  kExitUsage);
+  }
+
   // One modeling tolerance for every command that reads bodies (--coplanar-tol and
   // --planarity-tol are its old names).
-  for (CLI::App* sub : {info, convert, decompose, clip, hlr, render, shadows})
-    sub->add_option("--tolerance,--coplanar-tol,--planarity-tol", tolerance,
+  for (CLI::App* sub : {info, convert, decompose, clip, hlr, render, shadows}) {
+    sub->add_option("--tolerance", tolerance,
                     "merge nearly coplanar neighbouring faces of meshes read into planar faces, "
                     "moving no vertex by more than D (default 0: exact)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(hedra::cli::finite_number(false))
         ->option_text("D");
+    // Separate options, so that a usage error names the one given.
+    for (const char* alias : {"--coplanar-tol", "--planarity-tol"})
+      sub->add_option(alias, tolerance, "the same as --tolerance")
+          ->check(hedra::cli::finite_number(false))
+          ->option_text("D");
+  }
 
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    int code = app.exit(e);
-    return code == 0 ? 0 : kExitUsage;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    return fail(std::string(e.what()) + " (run with --help for more information)", kExitUsage);
   }
 
   hedra::cli::set_import_tolerance(tolerance);
@@ -100,13 +129,18 @@ int main(int argc, char** argv) {
         throw;
       }
       if (info_json)
-        std::cout << hedra::cli::info_json(bodies, info_matrix).dump(2) << "\n";
+        std::cout << hedra::cli::info_json(bodies, info_matrix)
+                         .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+                  << "\n";
       else
         hedra::cli::print_info_table(std::cout, bodies, info_matrix);
     } else if (*convert) {
       const bool to_scene = hedra::io::is_scene_path(convert_out);
       if (!to_scene) hedra::io::format_of(convert_out);  // reject an unknown format before reading
       auto named = hedra::cli::load_bodies(convert_in);
+      // hedra never writes a file it would reject: a file without bodies is one.
+      if (named.empty())
+        throw hedra::InvalidInput(convert_in + ": no visible body to write (every body is hidden)");
       std::vector<hedra::Body> bodies;
       for (const auto& nb : named) bodies.push_back(nb.body);
       if (to_scene) {
@@ -116,6 +150,7 @@ int main(int argc, char** argv) {
       } else {
         hedra::io::WriteOptions options;
         options.stl_ascii = stl_ascii;
+        for (const auto& nb : named) options.names.push_back(nb.name);
         hedra::io::write_bodies(bodies, convert_out, options);
       }
       std::cout << "wrote " << convert_out << " (" << bodies.size() << " bod"
@@ -151,14 +186,19 @@ int main(int argc, char** argv) {
       hedra::cli::write_demo_hidden_lines(scene, "demo-hidden-lines.svg", std::cout);
       hedra::cli::write_demo_shadows(scene, "demo-shadows.svg", std::cout);
     }
+  } catch (const hedra::cli::UsageError& e) {
+    return fail(e.what(), kExitUsage);
   } catch (const hedra::InvalidInput& e) {
-    std::cerr << "hedra: error: " << e.what() << "\n";
-    return kExitInvalidInput;
+    return fail(e.what(), kExitInvalidInput);
   } catch (const hedra::IoError& e) {
-    std::cerr << "hedra: error: " << e.what() << "\n";
-    return kExitInvalidInput;
+    return fail(e.what(), kExitInvalidInput);
+  } catch (const std::bad_alloc&) {
+    // Resource guards keep every input within stated limits (docs/io.md); reaching this is a
+    // bug, but the message says what happened rather than "std::bad_alloc".
+    std::cerr << "hedra: internal error: out of memory\n";
+    return 1;
   } catch (const std::exception& e) {
-    std::cerr << "hedra: internal error: " << e.what() << "\n";
+    std::cerr << "hedra: internal error: " << hedra::cli::sanitize_message(e.what()) << "\n";
     return 1;
   }
   return 0;

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "cli/info.h"
+#include "cli/usage.h"
 #include "hedra/io/png.h"
 #include "hedra/core/error.h"
 #include "hedra/render/raster.h"
@@ -55,19 +56,25 @@ CLI::App* add_render_subcommand(CLI::App& app, RenderCommand& c) {
       ->check(parsed_by("METHOD", [](const std::string& v) { ShadowSettings::parse(v); }));
   sub->add_option("--shading", c.shading, "flat | gouraud | phong (default)")
       ->check(CLI::IsMember({"flat", "gouraud", "phong"}));
-  sub->add_option("--width", c.width, "image width (default: the scene's)")->check(CLI::Range(1, 65536));
-  sub->add_option("--height", c.height, "image height (default: the scene's)")->check(CLI::Range(1, 65536));
+  sub->add_option("--width", c.width, "image width, 1 to 16384 (default: the scene's)")
+      ->check(CLI::Range(1, kMaxImageSide));
+  sub->add_option("--height", c.height, "image height, 1 to 16384 (default: the scene's)")
+      ->check(CLI::Range(1, kMaxImageSide));
   sub->add_option("--aa", c.aa, "samples per pixel: 1 (default), 4 or 16")->check(CLI::IsMember({1, 4, 16}));
   sub->add_flag("--lines", c.lines, "draw the visible edges and junction lines (Roberts) on top");
   sub->add_option("--attenuation", c.attenuation, "none (default) | linear:K | quadratic:A,B,C")
       ->check(parsed_by("MODEL", [](const std::string& v) { Attenuation::parse(v); }));
-  sub->add_option("--ambient", c.ambient, "ambient intensity I_a (default 1)")->check(CLI::NonNegativeNumber);
-  sub->add_option("--threads", c.threads, "worker threads (default: all)")->check(CLI::NonNegativeNumber);
+  sub->add_option("--ambient", c.ambient, "ambient intensity I_a (default 1)")->check(finite_number(false));
+  add_threads_option(*sub, c.threads);
   return sub;
 }
 
 void run_render(const RenderCommand& c, std::ostream& out) {
   const auto start = std::chrono::steady_clock::now();
+  if (static_cast<long long>(c.width) * c.height > kMaxImagePixels)
+    throw UsageError("--width, --height: " + std::to_string(c.width) + " x " +
+                     std::to_string(c.height) + " is more than " +
+                     std::to_string(kMaxImagePixels) + " pixels");
   const Scene scene = load_scene(c.scene_file);
   RenderOptions options;
   options.width = c.width;

@@ -19,7 +19,7 @@ struct RenderCommand {
   std::string shading = "phong";  // flat | gouraud | phong
   int width = 0, height = 0;      // 0: the scene's image size
   int aa = 1;                     // 1 | 4 | 16
-  bool lines = false;             // hidden-line overlay (kernel/roberts)
+  bool lines = false;             // hidden-line overlay (hedra/visibility/roberts.h)
   std::string attenuation = "none";
   double ambient = 1;
   int threads = 0;
@@ -29,7 +29,7 @@ struct RenderCommand {
 /// are usage errors (exit code 2).
 CLI::App* add_render_subcommand(CLI::App& app, RenderCommand& command);
 
-/// Runs `hedra render`: reads the scene, renders it (render/raster.h), draws the visible
+/// Runs `hedra render`: reads the scene, renders it (hedra/render/raster.h), draws the visible
 /// lines on top with --lines, writes the PNG atomically and prints a one-line summary.
 /// \throw InvalidInput naming the file and the place, IoError.
 void run_render(const RenderCommand& command, std::ostream& out);

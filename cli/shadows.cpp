@@ -5,11 +5,12 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "cli/info.h"
+#include "cli/usage.h"
 #include "hedra/io/atomic_file.h"
+#include "hedra/io/report_json.h"
 #include "hedra/core/error.h"
 #include "hedra/visibility/roberts.h"
 #include "hedra/visibility/shadows.h"
@@ -18,39 +19,6 @@
 
 namespace hedra::cli {
 namespace {
-
-using nlohmann::json;
-
-json vec(const Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
-
-json ring_json(const Polygon3& ring) {
-  json r = json::array();
-  for (const Vec3& p : ring) r.push_back(vec(p));
-  return r;
-}
-
-// Rings as the format wants them: a flat list, each outer ring (counter-clockwise seen
-// from outside the body) followed by its holes (clockwise).
-json polygons_json(const std::vector<ShadowPolygon>& polys) {
-  json out = json::array();
-  for (const ShadowPolygon& p : polys) {
-    out.push_back(ring_json(p.outer));
-    for (const Polygon3& h : p.holes) out.push_back(ring_json(h));
-  }
-  return out;
-}
-
-// Which rings of polygons_json(polys) are holes (their indices), so a reader need not tell
-// them by orientation.
-json hole_indices(const std::vector<ShadowPolygon>& polys) {
-  json out = json::array();
-  int ring = 0;
-  for (const ShadowPolygon& p : polys) {
-    ++ring;
-    for (size_t h = 0; h < p.holes.size(); ++h) out.push_back(ring++);
-  }
-  return out;
-}
 
 const char* type_name(Light::Type t) {
   switch (t) {
@@ -64,25 +32,6 @@ const char* type_name(Light::Type t) {
       return "sun";
   }
   return "directional";
-}
-
-json light_json(const Light& l) {
-  json j{{"type", type_name(l.type)}, {"intensity", l.intensity}, {"color", vec(l.color)}};
-  if (l.type != Light::Type::Point) j["direction"] = vec(l.direction);
-  if (l.type == Light::Type::Point || l.type == Light::Type::Spot) j["position"] = vec(l.position);
-  if (l.type == Light::Type::Spot) {
-    j["cone_deg"] = l.cone_deg;
-    j["falloff"] = l.falloff;
-  }
-  if (l.type == Light::Type::Sun) {
-    const SunPosition s = sun_position(l.latitude, l.longitude, l.time);
-    j["latitude"] = l.latitude;
-    j["longitude"] = l.longitude;
-    j["time"] = l.time.to_string();
-    j["elevation_deg"] = s.elevation_deg;
-    j["azimuth_deg"] = s.azimuth_deg;
-  }
-  return j;
 }
 
 std::string light_label(const Light& l) {
@@ -216,12 +165,35 @@ std::string shadows_svg(const Scene& scene, const ShadowResult& result, const st
   return svg;
 }
 
+// The grid's spacing: a finite positive number that puts at most kMaxGridPoints samples on the
+// face (its bounding box over spacing², so 1e-300 does not ask for 1e600 points).
+constexpr double kMaxGridPoints = 1e6;
+void check_grid(const Scene& scene, const SunStudyOptions& o) {
+  if (!(o.grid_spacing > 0) || !std::isfinite(o.grid_spacing))
+    throw UsageError("--grid: the spacing must be a finite positive number, got " +
+                     format_number(o.grid_spacing));
+  if (!scene.contains(o.grid_body)) return;  // the study names a missing body itself
+  const Body& body = scene.get(o.grid_body).body;
+  if (o.grid_face < 0 || o.grid_face >= body.face_count()) return;
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (const auto& loop : body.faces()[static_cast<size_t>(o.grid_face)].loops)
+    for (int v : loop) box.extend(body.vertices()[static_cast<size_t>(v)]);
+  const Vec3 size = box.sizes();
+  const double points = (size.maxCoeff() / o.grid_spacing + 1) * (size.maxCoeff() / o.grid_spacing + 1);
+  if (points > kMaxGridPoints)
+    throw UsageError("--grid: spacing " + format_number(o.grid_spacing) + " puts about " +
+                     format_number(points) + " sample points on face " +
+                     std::to_string(o.grid_face) + " of '" + o.grid_body + "' (at most " +
+                     format_number(kMaxGridPoints) + ")");
+}
+
 }  // namespace
 
 CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
   CLI::App* sub = app.add_subcommand(
       "shadows", "Self shadows, exact cast-shadow polygons and sun hours of a scene's faces");
-  sub->add_option("scene", command.scene_file, "scene file (.json)")->required();
+  sub->add_option("scene", command.scene_file, "scene or mesh file")->required();
   sub->add_option("--json", command.json_file, "write the report: faces, polygons, counts (JSON)");
   sub->add_option("--svg", command.svg_file,
                   "write the shadows over the hidden-line drawing (SVG)");
@@ -242,8 +214,7 @@ CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
       ->expected(3);
   sub->add_flag("--visible", command.visible_parts,
                 "report the parts of the shadows the camera sees (always with --svg)");
-  sub->add_option("--threads", command.threads, "worker threads (default: all)")
-      ->check(CLI::NonNegativeNumber);
+  add_threads_option(*sub, command.threads);
   return sub;
 }
 
@@ -281,13 +252,14 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
         o.grid_face = std::stoi(command.grid[1]);
         o.grid_spacing = std::stod(command.grid[2]);
       } catch (const std::exception&) {
-        throw InvalidInput("--grid: expected BODY FACE SPACING, got '" + command.grid[1] + " " +
-                           command.grid[2] + "'");
+        throw UsageError("--grid: expected BODY FACE SPACING, got '" + command.grid[1] + " " +
+                         command.grid[2] + "'");
       }
+      check_grid(scene, o);
     }
     study_options = o;
   } else if (!command.grid.empty()) {
-    throw InvalidInput("--grid needs --sun-hours");
+    throw UsageError("--grid needs --sun-hours");
   }
 
   // The computation, timed without file I/O.
@@ -308,80 +280,10 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
 
   // Everything is formatted before anything is written.
   std::string json_text, svg_text;
-  if (!command.json_file.empty()) {
-    json j;
-    j["ms"] = ms;
-    j["scene"] = command.scene_file;
-    json lights = json::array();
-    for (const LightShadows& ls : result.lights) {
-      json faces = json::array();
-      for (const FaceShadow& fs : ls.faces) {
-        json f{{"body", scene.bodies()[static_cast<size_t>(fs.body)].name},
-               {"face", fs.face},
-               {"area", fs.area},
-               {"self_shadowed", fs.self_shadowed()},
-               {"grazing", fs.grazing()},
-               {"visible", fs.visible},
-               {"shadow_area", fs.shadow_area},
-               {"polygons", polygons_json(fs.polygons)},
-               {"holes", hole_indices(fs.polygons)}};
-        if (options.visible_parts) {
-          f["visible_shadow_area"] = fs.visible_shadow_area;
-          f["visible_polygons"] = polygons_json(fs.visible_polygons);
-        }
-        faces.push_back(std::move(f));
-      }
-      lights.push_back({{"light", light_json(ls.light)}, {"faces", std::move(faces)}});
-    }
-    j["lights"] = std::move(lights);
-    json counts = json::array();
-    for (const ShadowCount& c : result.counts)
-      counts.push_back({{"body", scene.bodies()[static_cast<size_t>(c.body)].name},
-                        {"face", c.face},
-                        {"count", c.count},
-                        {"of", result.lights.size()},
-                        {"umbra", c.count == static_cast<int>(result.lights.size())},
-                        {"area", c.area},
-                        {"polygons", polygons_json(c.polygons)},
-                        {"holes", hole_indices(c.polygons)}});
-    j["counts"] = std::move(counts);
-    if (study) {
-      json st{{"latitude", study_options->latitude},
-              {"longitude", study_options->longitude},
-              {"start", study_options->start.to_string()},
-              {"end", study_options->end.to_string()},
-              {"step_minutes", study_options->step_minutes}};
-      json steps = json::array();
-      for (const SunStep& s : study->steps)
-        steps.push_back({{"time", s.time.to_string()},
-                         {"sun_up", s.sun_up},
-                         {"elevation_deg", s.elevation_deg},
-                         {"azimuth_deg", s.azimuth_deg},
-                         {"lit_fraction", s.lit_fraction}});
-      st["steps"] = std::move(steps);
-      json faces = json::array();
-      for (size_t b = 0; b < scene.bodies().size(); ++b) {
-        if (study->first_face[b] < 0) continue;
-        for (int f = 0; f < scene.bodies()[b].body.face_count(); ++f)
-          faces.push_back(
-              {{"body", scene.bodies()[b].name},
-               {"face", f},
-               {"sun_hours", study->sun_hours[static_cast<size_t>(study->first_face[b] + f)]}});
-      }
-      st["faces"] = std::move(faces);
-      if (!study_options->grid_body.empty()) {
-        json pts = json::array();
-        for (const Vec3& p : study->grid_points) pts.push_back(vec(p));
-        st["grid"] = {{"body", study_options->grid_body},
-                      {"face", study_options->grid_face},
-                      {"spacing", study_options->grid_spacing},
-                      {"points", std::move(pts)},
-                      {"sun_hours", study->grid_hours}};
-      }
-      j["sun_study"] = std::move(st);
-    }
-    json_text = j.dump() + "\n";
-  }
+  if (!command.json_file.empty())
+    json_text = io::shadows_json(scene, command.scene_file, result, options.visible_parts, ms,
+                                 study ? &*study_options : nullptr, study ? &*study : nullptr) +
+                "\n";
   if (!command.svg_file.empty()) {
     try {
       svg_text = shadows_svg(scene, result, "hedra shadows " + command.scene_file);
@@ -389,8 +291,10 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
       throw InvalidInput(command.scene_file + ": " + e.what());
     }
   }
-  if (!command.json_file.empty()) io::write_file_atomically(command.json_file, json_text);
-  if (!command.svg_file.empty()) io::write_file_atomically(command.svg_file, svg_text);
+  io::OutputTransaction outputs;  // both files or neither
+  if (!command.json_file.empty()) outputs.add(command.json_file, json_text);
+  if (!command.svg_file.empty()) outputs.add(command.svg_file, svg_text);
+  outputs.commit();
 
   // Summary.
   char buf[256];

@@ -1,5 +1,5 @@
 // `hedra shadows`: self shadows, cast-shadow polygons and sun studies of a scene (README, "The
-// hedra command"; kernel/shadows.h).
+// hedra command"; hedra/visibility/shadows.h).
 #pragma once
 
 #include <ostream>

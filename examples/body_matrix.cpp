@@ -1,8 +1,7 @@
 // Build a body and print its body matrix (the README's example).
 #include <iostream>
 
-#include "hedra/mesh/convexity.h"
-#include "hedra/core/primitives.h"
+#include <hedra/hedra.h>
 
 int main() {
   using namespace hedra;

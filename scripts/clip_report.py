@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 SHAPES = {0: "box (6 faces)", 1: "icosahedron (20 faces)"}
 DATASETS = {0: "random segments", 1: "segments through vertices, along edges, in face planes"}
 VARIANTS = {0: "Cyrus–Beck, exact decisions", 1: "Cyrus–Beck, plain double", 2: "midpoint subdivision"}
-TARGET = 100e6  # segments/s, 2 threads, 6-face body (design.md)
+TARGET = 100e6  # segments/s, 2 threads, 6-face body (docs/design.md)
 
 
 def median(entries, key):
@@ -50,8 +50,8 @@ def throughput_table(runs):
     lines = ["### Throughput", "",
              f"{int(runs_segments(runs) / 1e6)} M random segments (both ends uniform in [−2, 2]³; the box is "
              "[−1, 1]³, the icosahedron has circumradius 1.2), in M segments/s (median of the "
-             "repetitions). *vs scalar*: against the plain scalar loop (the course's algorithm in "
-             "double, one segment at a time) on the same clipper; *of roofline*: against copying the "
+             "repetitions). *vs scalar*: against the plain scalar loop (the course's algorithm of "
+             "docs/algorithms.md §4 in double, one segment at a time) on the same clipper; *of roofline*: against copying the "
              "same six coordinate arrays with the same number of threads (48 bytes read and written "
              "per segment; the batch reads 48 and writes 25).", "",
              "| method | threads | box (6 faces) | vs scalar | of roofline | icosahedron (20 faces) | vs scalar | of roofline |",
@@ -80,7 +80,7 @@ def throughput_table(runs):
     box2 = rate.get(("BM_Batch", 0, 2))
     if box2 is not None:
         verdict = "met" if box2 >= TARGET else "not met"
-        lines.append(f"Target (design.md): ≥ 100 M segments/s on 2 threads against the 6-face body: "
+        lines.append(f"Target (docs/design.md): ≥ 100 M segments/s on 2 threads against the 6-face body: "
                      f"**{verdict}** ({fmt_rate(box2)} M/s).")
     if extra:
         worst = round(max(extra.values()) * runs_segments(runs))

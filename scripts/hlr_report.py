@@ -19,7 +19,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 SCENES = {0: "jittered grid", 1: "regular grid", 2: "corner", 3: "bar"}
-GROWTH_TARGET = 4.6   # time(N = 40) / time(N = 20), design.md (≈ n^1.1)
+GROWTH_TARGET = 4.6   # time(N = 40) / time(N = 20), docs/design.md (≈ n^1.1)
 SPEEDUP_TARGET = 10   # over OCCT HLRBRep_PolyAlgo at every N
 ACCURACY_TARGET = 1e-9
 
@@ -45,7 +45,7 @@ def scaling_section(runs):
     lines = ["### Jittered grid of boxes: time against N", "",
              "Time per call in ms: median [min–max] over the repetitions. *tests/edge*: Cyrus–Beck clips per drawn edge (the grid keeps it "
              "constant); *vs reference*: |hedra − ray-cast reference| / reference for the total visible "
-             "length (tests/hlr_reference.h: 256 samples per edge, transitions bisected). OCCT times exclude "
+             "length (tests/testing/hlr_reference.h: 256 samples per edge, transitions bisected). OCCT times exclude "
              "BRepMesh meshing (given apart) and are for the parallel view only; *÷ hedra* is OCCT's time "
              "over hedra's parallel time.", "",
              "| N | boxes | hedra parallel | hedra perspective | tests/edge | vs reference (par / persp) | "
@@ -92,7 +92,7 @@ def scaling_section(runs):
     verdicts.append(f"visible length against the ray-cast reference: worst relative difference "
                     f"**{worst_error:.1e}** ({'met' if worst_error <= ACCURACY_TARGET else 'not met'}; "
                     f"target ≤ {ACCURACY_TARGET:.0e})")
-    lines += ["Targets (design.md): " + "; ".join(verdicts) + ".", ""]
+    lines += ["Targets (docs/design.md): " + "; ".join(verdicts) + ".", ""]
     return lines, times
 
 

@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libcli11-dev libpng-dev libtbb-dev
   libtet1.5-dev
+  pybind11-dev python3-pybind11 python3-dev python3-numpy python3-pytest
   "$@"
 )
 

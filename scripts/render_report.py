@@ -21,7 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 SCENES = {0: "city N = 10", 1: "city N = 40", 2: "demo scene"}
 METHODS = {0: "none", 1: "exact", 2: "map", 3: "rays"}
-TARGET_MS = 200  # N = 40, 1024², Phong, exact shadows, 2 threads (design.md)
+TARGET_MS = 200  # N = 40, 1024², Phong, exact shadows, 2 threads (docs/design.md)
 FLOOR = 1e-6     # errors of 0 are drawn here on the log scale
 
 
@@ -143,12 +143,12 @@ def rendering(results, docs, quick=False):
              "see docs/rendering.md for the methods. Every image is 1024 × 1024 (the demo scene "
              "1024 × 768), Phong shading, one sample per pixel, 2 threads; times are medians over the "
              "repetitions of the whole render() call (for `exact`, including the exact shadow polygons of "
-             "kernel/shadows; *shadows* is that part, or building the maps or the BVH). "
+             "hedra/visibility/shadows.h; *shadows* is that part, or building the maps or the BVH). "
              "*Pixels differing*: the fraction of visible pixels whose shadow state (shadowed when at "
              "least half of the pixel's probes are blocked) differs from the exact method's at the same "
              "pixel. *Ground area error*: the shadowed ground area measured in a 1024² top view (the "
              "shadowed fraction of the visible ground times its exact area, plus the footprints), "
-             "against the exact area of kernel/shadows; for `exact` it is the sampling error of the "
+             "against the exact area of hedra/visibility/shadows.h; for `exact` it is the sampling error of the "
              "raster alone."]
     if os.environ.get("HEDRA_BENCH_NOTE"):
         lines.append(os.environ["HEDRA_BENCH_NOTE"])
@@ -157,7 +157,7 @@ def rendering(results, docs, quick=False):
         t, s, r = target[2]
         verdict = "met" if t <= TARGET_MS else "not met"
         one = f"; on 1 thread {target[1][0]:.0f} ms" if 1 in target else ""
-        lines += [f"Target (design.md): N = 40, 1024², Phong, exact shadows in ≤ {TARGET_MS} ms on 2 threads: "
+        lines += [f"Target (docs/design.md): N = 40, 1024², Phong, exact shadows in ≤ {TARGET_MS} ms on 2 threads: "
                   f"**{verdict}** ({t:.0f} ms, of which {s:.0f} ms exact shadow polygons and {r:.0f} ms "
                   f"the tiles{one}).", ""]
     lines += table(rows)

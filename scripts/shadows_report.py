@@ -19,7 +19,7 @@ from bench_common import fmt_times as fmt_ms, times_ms as med_ms
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-TARGET_MS = 20.0      # N = 40 (design.md)
+TARGET_MS = 20.0      # N = 40 (docs/design.md)
 TARGET_ERROR = 1e-9   # ground fraction against the CGAL exact union
 FLOOR = 1e-17         # errors of 0 are drawn here on the log scale
 
@@ -79,7 +79,7 @@ def shadows(results, docs, quick=False):
     lines = ["## Shadows", "",
              f"Measured on {machine()}, by `bench/shadows_bench.cpp`"
              f"{' (quick run)' if quick else ''}; see docs/shadows.md for the method. The city of "
-             "design.md: a ground slab [0, 100]² and an N × N grid of boxes (footprints 0.2p … 0.8p "
+             "docs/design.md (\"Targets\"): a ground slab [0, 100]² and an N × N grid of boxes (footprints 0.2p … 0.8p "
              "of each cell p = 100/N, heights p/4 … 9p/8 from a fixed seed), the sun along "
              "(−1, −2, −3). *hedra exact*: `compute_shadows`, shadow polygons and areas on every "
              "face (ground, facades, roofs), scene preparation included. *CGAL*: the exact union "
@@ -105,7 +105,7 @@ def shadows(results, docs, quick=False):
         if n == 40 and h2:
             t = med_ms(h2)[0]
             err = h2[0]["relative_error"]
-            verdicts.append(f"Target (design.md): N = 40 in ≤ {TARGET_MS:g} ms with the ground fraction "
+            verdicts.append(f"Target (docs/design.md): N = 40 in ≤ {TARGET_MS:g} ms with the ground fraction "
                             f"equal to CGAL's to {TARGET_ERROR:g}: time **{'met' if t <= TARGET_MS else 'not met'}** "
                             f"({t:.3g} ms median, {med_ms(h2)[1]:.3g} ms best), accuracy "
                             f"**{'met' if err <= TARGET_ERROR else 'not met'}** (relative error {fmt_err(err)}).")

@@ -8,6 +8,14 @@
 
 namespace hedra::io {
 
+JsonValue::JsonValue() = default;
+JsonValue::JsonValue(const JsonValue&) = default;
+JsonValue::JsonValue(JsonValue&&) noexcept = default;
+JsonValue& JsonValue::operator=(const JsonValue&) = default;
+JsonValue& JsonValue::operator=(JsonValue&&) noexcept = default;
+JsonValue::~JsonValue() = default;
+
+
 const char* JsonValue::kind_name() const {
   switch (kind) {
     case Kind::Null: return "null";

@@ -20,6 +20,15 @@ struct JsonValue {
   std::vector<std::pair<int, int>> key_positions;          // line, column of each member's key
   int line = 0, column = 0;
 
+  // Declared here, defined where JsonValue is complete (json_value.cpp): `members` holds
+  // pairs of an incomplete type, which clang's libstdc++ instantiation refuses inline.
+  JsonValue();
+  JsonValue(const JsonValue&);
+  JsonValue(JsonValue&&) noexcept;
+  JsonValue& operator=(const JsonValue&);
+  JsonValue& operator=(JsonValue&&) noexcept;
+  ~JsonValue();
+
   const char* kind_name() const;
   /// Member by key, or nullptr.
   const JsonValue* find(const std::string& key) const;

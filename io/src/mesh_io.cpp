@@ -67,20 +67,32 @@ PolygonSoup soup_of(const std::vector<Body>& bodies, bool triangles_only) {
   return soup;
 }
 
+std::string format_bodies(const std::vector<Body>& bodies, MeshFormat format,
+                          const WriteOptions& options) {
+  switch (format) {
+    case MeshFormat::Off: return format_off(soup_of(bodies, false));
+    case MeshFormat::Obj: {
+      std::vector<std::pair<size_t, std::string>> groups;
+      if (options.names.size() == bodies.size()) {
+        size_t first = 0;
+        for (size_t b = 0; b < bodies.size(); ++b) {
+          groups.emplace_back(first, options.names[b]);
+          first += soup_of({bodies[b]}, false).polygons.size();
+        }
+      }
+      return format_obj(soup_of(bodies, false), groups);
+    }
+    case MeshFormat::Ply: return format_ply(soup_of(bodies, false));
+    case MeshFormat::Stl:
+      return options.stl_ascii ? format_stl_ascii(soup_of(bodies, true))
+                               : format_stl_binary(soup_of(bodies, true));
+  }
+  throw InvalidInput("unknown mesh format");
+}
+
 void write_bodies(const std::vector<Body>& bodies, const std::string& path,
                   const WriteOptions& options) {
-  const MeshFormat format = format_of(path);
-  std::string bytes;
-  switch (format) {
-    case MeshFormat::Off: bytes = format_off(soup_of(bodies, false)); break;
-    case MeshFormat::Obj: bytes = format_obj(soup_of(bodies, false)); break;
-    case MeshFormat::Ply: bytes = format_ply(soup_of(bodies, false)); break;
-    case MeshFormat::Stl:
-      bytes = options.stl_ascii ? format_stl_ascii(soup_of(bodies, true))
-                                : format_stl_binary(soup_of(bodies, true));
-      break;
-  }
-  write_file_atomically(path, bytes);
+  write_file_atomically(path, format_bodies(bodies, format_of(path), options));
 }
 
 }  // namespace hedra::io

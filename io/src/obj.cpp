@@ -54,14 +54,23 @@ PolygonSoup parse_obj(const std::string& path, const std::string& text) {
   return soup;
 }
 
-std::string format_obj(const PolygonSoup& soup) {
+std::string format_obj(const PolygonSoup& soup,
+                       const std::vector<std::pair<size_t, std::string>>& groups) {
   std::string out = "# written by hedra\n";
   char buf[96];
   for (const Vec3& p : soup.vertices) {
     std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p.x(), p.y(), p.z());
     out += buf;
   }
-  for (const auto& poly : soup.polygons) {
+  size_t group = 0;
+  for (size_t f = 0; f < soup.polygons.size(); ++f) {
+    const auto& poly = soup.polygons[f];
+    for (; group < groups.size() && groups[group].first == f; ++group) {
+      out += "o ";
+      for (char c : groups[group].second)
+        out += c == '\n' || c == '\r' || c == '#' || c == '\0' ? '_' : c;
+      out += "\n";
+    }
     out += "f";
     for (int v : poly) out += " " + std::to_string(v + 1);
     out += "\n";

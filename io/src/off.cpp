@@ -24,6 +24,11 @@ PolygonSoup parse_off(const std::string& path, const std::string& text) {
   if (nv < 0 || nf < 0 || nv > 100'000'000 || nf > 100'000'000)
     in.fail("implausible counts " + std::to_string(nv) + " vertices, " + std::to_string(nf) +
             " faces");
+  // A vertex takes at least 5 bytes ("0 0 0"), a face at least 7 ("3 0 1 2"): counts that
+  // the file cannot hold are rejected before anything is reserved for them.
+  if (5 * nv + 7 * nf > static_cast<long long>(text.size()))
+    in.fail("the header's counts (" + std::to_string(nv) + " vertices, " + std::to_string(nf) +
+            " faces) need more than the file's " + std::to_string(text.size()) + " bytes");
   PolygonSoup soup;
   soup.vertices.reserve(nv);
   for (long long i = 0; i < nv; ++i) {

@@ -54,6 +54,12 @@ struct Element {
 
 enum class Format { Ascii, Little, Big };
 
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
 // Reads values of an element's records from ASCII tokens or binary bytes.
 class ValueSource {
  public:
@@ -157,6 +163,35 @@ PolygonSoup parse_ply(const std::string& path, const std::string& bytes) {
   }
   if (!have_format) throw InvalidInput(path + ": PLY header has no format line");
 
+  // Structure first: the elements hedra reads must have the properties it reads.
+  for (const Element& e : elements) {
+    bool x = false, y = false, z = false, indices = false;
+    for (const Property& p : e.properties) {
+      x = x || p.name == "x";
+      y = y || p.name == "y";
+      z = z || p.name == "z";
+      indices = indices || ((p.name == "vertex_indices" || p.name == "vertex_index") && p.is_list);
+    }
+    if (e.name == "vertex" && !(x && y && z))
+      throw InvalidInput(path + ": vertex element lacks x, y or z");
+    if (e.name == "face" && !indices) throw InvalidInput(path + ": face element lacks vertex_indices");
+  }
+  // Each record takes at least a byte per value (ASCII: a character and a separator), so the
+  // declared counts must fit in the data; an element without properties has nothing to read.
+  {
+    long double need = 0;
+    for (const Element& e : elements) {
+      long double record = 0;
+      for (const Property& p : e.properties)
+        record += format == Format::Ascii ? 2 : static_cast<long double>(size_of(p.is_list ? p.count_type : p.type));
+      need += record * e.count;
+    }
+    const long double have = bytes.size() - data_start + 1;  // the last value needs no separator
+    if (need > have)
+      throw InvalidInput(path + ": the header's element counts need at least " +
+                         std::to_string(static_cast<long long>(need)) + " bytes of data, but the file has " +
+                         std::to_string(bytes.size() - data_start));
+  }
   PolygonSoup soup;
   ValueSource source(path, bytes, data_start, format);
   long long vertex_count = -1;
@@ -175,6 +210,7 @@ PolygonSoup parse_ply(const std::string& path, const std::string& bytes) {
       throw InvalidInput(path + ": vertex element lacks x, y or z");
     if (is_face && fi < 0) throw InvalidInput(path + ": face element lacks vertex_indices");
     if (is_vertex) vertex_count = e.count;
+    if (e.properties.empty()) continue;
     for (long long r = 0; r < e.count; ++r) {
       const std::string where = e.name + " " + std::to_string(r);
       Vec3 p = Vec3::Zero();
@@ -183,14 +219,15 @@ PolygonSoup parse_ply(const std::string& path, const std::string& bytes) {
         const Property& prop = e.properties[k];
         if (prop.is_list) {
           double count = source.read(prop.count_type, where);
-          if (count < 0 || count > 1e6) throw InvalidInput(path + ": bad list size in " + where);
+          // Negated so that NaN fails too (fuzz finding: a NaN count reached the int cast).
+          if (!(count >= 0 && count <= 1e6)) throw InvalidInput(path + ": bad list size in " + where);
           for (int j = 0; j < static_cast<int>(count); ++j) {
             double value = source.read(prop.type, where);
             if (static_cast<int>(k) == fi) {
               if (value < 0 || value >= static_cast<double>(std::max(vertex_count, 0LL)) ||
                   value != std::floor(value))
-                throw InvalidInput(path + ": " + where + " refers to vertex " +
-                                   std::to_string(static_cast<long long>(value)) +
+                // %.17g, not a cast: 1.3e32 or NaN do not fit a long long (fuzz finding).
+                throw InvalidInput(path + ": " + where + " refers to vertex " + number_text(value) +
                                    ", out of range");
               poly.push_back(static_cast<int>(value));
             }

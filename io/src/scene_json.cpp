@@ -373,7 +373,7 @@ class SceneReader {
       } else if (shape == "polyhedron") {
         for (const JsonValue& p : member(s, "vertices").items) box.extend(vec3(p, "vertex"));
       } else if (shape == "mesh") {
-        for (const Body& m : read_bodies(mesh_path(s), mesh_options_)) box.extend(m.bbox());
+        for (const Body& m : read_mesh(s)) box.extend(m.bbox());
       } else if (s.kind == Kind::Array && s.items.size() == 2 &&
                  s.items[0].kind == Kind::String && s.items[1].kind == Kind::String) {
         Eigen::AlignedBox3d a = take(s.items[0].string), c = take(s.items[1].string);
@@ -401,6 +401,45 @@ class SceneReader {
     fs::path p(text(v, "'mesh'"));
     if (p.is_relative()) p = fs::path(path_).parent_path() / p;
     return p.string();
+  }
+
+  // The bodies of a "mesh" file; a file that cannot be read is reported at the scene's line
+  // and body too (the mesh's own errors already name the mesh file and its line).
+  std::vector<Body> read_mesh(const JsonValue& v) const {
+    const std::string path = mesh_path(v);
+    try {
+      return read_bodies(path, mesh_options_);
+    } catch (const IoError& e) {
+      throw IoError(path_ + ":" + std::to_string(v.line) + ":" + std::to_string(v.column) + ": " +
+                    context_ + "'mesh': " + e.what());
+    }
+  }
+
+  // A primitive within the face budget; over it, the message adds how the tolerance was chosen
+  // and how to allow more faces.
+  template <class Build>
+  auto within_budget(Build build, const std::string& note) const {
+    try {
+      return build();
+    } catch (const FaceBudgetExceeded& e) {
+      throw InvalidInput(std::string(e.what()) + pixel_note(note) +
+                         "; a coarser tolerance needs fewer, or the shape's \"max_faces\" allows more");
+    } catch (const InvalidInput& e) {
+      throw InvalidInput(std::string(e.what()) + pixel_note(note));
+    }
+  }
+  // The shape's face budget: its "max_faces", else kDefaultMaxFaces.
+  int max_faces(const JsonValue& shape) const {
+    const JsonValue* v = shape.find("max_faces");
+    if (!v) return kDefaultMaxFaces;
+    const int n = integer(*v, "'max_faces'");
+    if (n < 8) fail(*v, "'max_faces' must be at least 8");
+    return n;
+  }
+
+  // How a pixel tolerance became the chordal one, for messages about the latter.
+  static std::string pixel_note(const std::string& note) {
+    return note.find("pixel") == std::string::npos ? "" : " [" + note + "]";
   }
 
   const Body& operand(const JsonValue& v, const Scene& scene) const {
@@ -481,35 +520,45 @@ class SceneReader {
       return frustum(polygon(member(s, "base"), "'base'"), z0, vec3(member(s, "apex"), "'apex'"), z1);
     }
     if (shape == "regular_prism") {
-      allow(s, {"sides", "radius", "z"});
+      allow(s, {"sides", "radius", "z", "max_faces"});
+      const int max_faces_ = max_faces(s);
       auto [z0, z1] = range(member(s, "z"), "'z'");
-      return regular_prism(integer(member(s, "sides"), "'sides'"),
-                           positive(member(s, "radius"), "'radius'"), z0, z1);
+      const int sides = integer(member(s, "sides"), "'sides'");
+      const double radius = positive(member(s, "radius"), "'radius'");
+      return within_budget([&, z0 = z0, z1 = z1] { return regular_prism(sides, radius, z0, z1, max_faces_); },
+                           note);
     }
     if (shape == "cylinder" || shape == "cone") {
-      allow(s, {"radius", "z", "tolerance", "pixel_tolerance"});
+      allow(s, {"radius", "z", "tolerance", "pixel_tolerance", "max_faces"});
+      const int max_faces_ = max_faces(s);
       const double r = positive(member(s, "radius"), "'radius'");
       auto [z0, z1] = range(member(s, "z"), "'z'");
       const double half = std::abs(z1 - z0) / 2;
       const double tol = curved_tolerance(s, Vec3(0, 0, (z0 + z1) / 2), std::hypot(r, half), t, note);
-      const int n = segments_for_tolerance(r, tol);
-      note = std::to_string(n) + " sides: " + note;
+      const int n = within_budget([&] { return segments_for_tolerance(r, tol); }, note);
       surface = shape == "cylinder" ? SmoothSurface::cylinder(r, z0, z1)
                                     : SmoothSurface::cone(r, z0, z1);
-      return shape == "cylinder" ? cylinder(r, z0, z1, tol) : cone(r, z0, z1, tol);
+      Body body = within_budget(
+          [&, z0 = z0, z1 = z1] {
+            return shape == "cylinder" ? cylinder(r, z0, z1, tol, max_faces_) : cone(r, z0, z1, tol, max_faces_);
+          },
+          note);
+      note = std::to_string(n) + " sides: " + note;
+      return body;
     }
     if (shape == "sphere") {
-      allow(s, {"center", "radius", "tolerance", "pixel_tolerance"});
+      allow(s, {"center", "radius", "tolerance", "pixel_tolerance", "max_faces"});
+      const int max_faces_ = max_faces(s);
       const Vec3 c = vec3(member(s, "center"), "'center'");
       const double r = positive(member(s, "radius"), "'radius'");
       const double tol = curved_tolerance(s, c, r, t, note);
-      Body body = sphere(c, r, tol);
+      Body body = within_budget([&] { return sphere(c, r, tol, max_faces_); }, note);
       note = std::to_string(body.face_count()) + " faces: " + note;
       surface = SmoothSurface::sphere(c, r);
       return body;
     }
     if (shape == "mesh") {
-      std::vector<Body> bodies = read_bodies(mesh_path(s), mesh_options_);
+      std::vector<Body> bodies = read_mesh(s);
       if (bodies.size() != 1)
         fail(s, "'" + s.string + "' holds " + std::to_string(bodies.size()) +
                     " bodies; a scene body takes a mesh of exactly one");
@@ -639,7 +688,7 @@ std::string format_scene(const Scene& scene) {
   root["lights"] = lights;
   root["image"] = {{"width", c.width}, {"height", c.height},
                    {"background", vec_json(scene.image.background)}};
-  return root.dump(2) + "\n";
+  return root.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }
 
 void write_scene(const Scene& scene, const std::string& path) {

@@ -1,7 +1,11 @@
 #include "hedra/io/text_reader.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -63,13 +67,49 @@ long long TextReader::integer(size_t i, const char* what) const {
   return value;
 }
 
-std::string read_file(const std::string& path) {
+size_t max_input_bytes() {
+  static const size_t limit = [] {
+    if (const char* env = std::getenv("HEDRA_MAX_INPUT_BYTES")) {
+      unsigned long long v = 0;
+      auto [end, ec] = std::from_chars(env, env + std::strlen(env), v);
+      if (ec == std::errc() && *end == '\0' && v > 0) return static_cast<size_t>(v);
+    }
+    return kDefaultMaxInputBytes;
+  }();
+  return limit;
+}
+
+std::string read_file(const std::string& path) { return read_file(path, max_input_bytes()); }
+
+std::string read_file(const std::string& path, size_t max_bytes) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::is_directory(status)) throw IoError(path + ": is a directory, not a file");
+  auto too_large = [&](const std::string& size) {
+    return IoError(path + ": " + size + " is more than the input limit of " +
+                   std::to_string(max_bytes) + " bytes (HEDRA_MAX_INPUT_BYTES raises it)");
+  };
+  // A regular file's size is known: checked before anything is read.
+  if (fs::is_regular_file(status)) {
+    const auto size = fs::file_size(path, ec);
+    if (!ec && size > max_bytes) throw too_large("the file's " + std::to_string(size) + " bytes");
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open the file for reading");
-  std::ostringstream s;
-  s << in.rdbuf();
+  // Read in blocks up to the limit: a device or a pipe (/dev/zero) has no size to check first.
+  std::string bytes;
+  constexpr size_t kBlock = 1 << 20;
+  while (in) {
+    const size_t at = bytes.size();
+    const size_t want = std::min(kBlock, max_bytes + 1 - at);
+    bytes.resize(at + want);
+    in.read(bytes.data() + at, static_cast<std::streamsize>(want));
+    bytes.resize(at + static_cast<size_t>(in.gcount()));
+    if (bytes.size() > max_bytes) throw too_large("its content beyond " + std::to_string(max_bytes) + " bytes");
+  }
   if (in.bad()) throw IoError(path + ": read error");
-  return s.str();
+  return bytes;
 }
 
 }  // namespace hedra::io

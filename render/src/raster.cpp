@@ -61,7 +61,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
   }
 }
 
-// ---- Lights and the lighting model (algorithms.md §8) ----
+// ---- Lights and the lighting model (docs/algorithms.md §8) ----
 
 // x^n: by repeated squaring for the usual integer exponents (a few ulps from std::pow, and
 // several times faster), std::pow otherwise.
@@ -415,6 +415,9 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
   const int height = options.height > 0 ? options.height : scene.camera.height;
   if (width < 1 || height < 1 || width > 65536 || height > 65536)
     throw InvalidInput("image size must be between 1 and 65536 pixels");
+  if (static_cast<long long>(width) * height > kMaxImagePixels)
+    throw InvalidInput("image size " + std::to_string(width) + " x " + std::to_string(height) +
+                       " is more than " + std::to_string(kMaxImagePixels) + " pixels");
   if (options.aa != 1 && options.aa != 4 && options.aa != 16)
     throw InvalidInput("--aa must be 1, 4 or 16 samples per pixel");
   if (options.tile_size < 4 || options.tile_size > 1024)
@@ -432,7 +435,7 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
   tbb::task_arena arena(options.threads > 0 ? options.threads : tbb::task_arena::automatic);
   Image image;
   arena.execute([&] {
-    // ---- Set-up: geometry, view, culling (algorithms.md §6 stage 1 by the body matrix) ----
+    // ---- Set-up: geometry, view, culling (docs/algorithms.md §6.1 by the body matrix) ----
     const SceneGeometry geometry = SceneGeometry::of(scene);
     const Eigen::AlignedBox3d box = geometry.bbox();
     const RasterView view = scene_view(scene, width, height);

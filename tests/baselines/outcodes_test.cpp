@@ -94,7 +94,8 @@ TEST(Outcodes, FrustumSignsAreExactOnThePlanes) {
 TEST(Outcodes, PointsBeyondTheCentreOfProjectionHaveTheirSideBitsInverted) {
   const ViewFrustum f = course_frustum();
   // On the axis behind the viewer: every side test fails at once (the planes crossed at the
-  // centre); the course's inversion gives 0000, and T5 still marks it invisible.
+  // centre); the course's inversion (docs/algorithms.md §3.2) gives 0000, and T5 still marks it
+  // invisible.
   EXPECT_EQ(halfspace_outcode(f, {0, 0, 11}), kOutSides | kOutNear);
   EXPECT_EQ(outcode(f, {0, 0, 11}), kOutNear);
   // Behind the viewer on the far left: its image through the centre falls on the right.

@@ -229,9 +229,9 @@ TEST(CyrusBeck, CourseFormulationAgreesOnGenericSegments) {
   }
 }
 
-// Where the course's plain-double formulation fails: the edges of random tetrahedra (each
-// edge lies exactly in two face planes). The exact clipper keeps every edge whole (a closed
-// volume contains its boundary); in double, W·n and D·n of those two planes are rounding
+// Where the course's plain-double formulation (docs/algorithms.md §4) fails: the edges of random
+// tetrahedra (each edge lies exactly in two face planes). The exact clipper keeps every edge whole
+// (a closed volume contains its boundary); in double, W·n and D·n of those two planes are rounding
 // noise, and part of the edges come back rejected or cut short. docs/stability.md cites this.
 TEST(CyrusBeck, CourseFormulationMisjudgesEdgesOfTheClipper) {
   std::mt19937_64 rng(11);

@@ -1,4 +1,4 @@
-// ExactPlane and its predicates (kernel/predicates.h): the double evaluation stays within its
+// ExactPlane and its predicates (hedra/core/predicates.h): the double evaluation stays within its
 // bound, and the exact predicates agree with rational arithmetic.
 #include <gtest/gtest.h>
 

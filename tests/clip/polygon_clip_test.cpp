@@ -35,12 +35,12 @@ std::array<Rational, 4> rational_plane(const ExactPlane& f) {
   return r;
 }
 
-// The course's Sutherland–Hodgman in exact rationals: one ring with bridges, whose shoelace
-// area is exactly the area of polygon ∩ clipper. The polygons lie in planes z = const, so the
-// clipping happens in 2D against the lines where the clipper's planes meet that plane. To keep
-// the rationals small, every vertex is computed from the two input lines it lies on (an edge
-// line of the polygon or a clipper line), never from earlier computed points: each ring vertex
-// carries the line of the edge that leaves it.
+// The course's Sutherland–Hodgman (docs/algorithms.md §3.5) in exact rationals: one ring with
+// bridges, whose shoelace area is exactly the area of polygon ∩ clipper. The polygons lie in planes
+// z = const, so the clipping happens in 2D against the lines where the clipper's planes meet that
+// plane. To keep the rationals small, every vertex is computed from the two input lines it lies on
+// (an edge line of the polygon or a clipper line), never from earlier computed points: each ring
+// vertex carries the line of the edge that leaves it.
 struct Line {
   Rational a, b, c;  // a·x + b·y + c (≥ 0 inside, for clipper lines)
   Rational at(const Rational& x, const Rational& y) const { return a * x + b * y + c; }

@@ -39,7 +39,8 @@ TEST(Body, CourseCubeMatrix) {
   EXPECT_EQ(cube.matrix(), expected);
   // S = (0,0,0,1) gives all positive values.
   EXPECT_TRUE(((Vec4(0, 0, 0, 1).transpose() * cube.matrix()).array() > 0).all());
-  // The course's signing by the vertex average gives the same matrix, also from flipped columns.
+  // The course's signing (docs/algorithms.md §1) by the vertex average gives the same matrix,
+  // also from flipped columns.
   EXPECT_EQ(sign_by_interior_point(-cube.matrix(), Vec3::Zero()), expected);
 }
 

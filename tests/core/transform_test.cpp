@@ -50,7 +50,8 @@ TEST(Transform, RotationMatricesByHand) {
   expect_near(Transform::rotation_z(t).matrix(), z);
   expect_near(Transform::rotation_x(t).matrix(), x);
   expect_near(Transform::rotation_y(t).matrix(), y);
-  // The course's formulas about a centre: x' = xc + (x−xc)cosθ − (y−yc)sinθ, ...
+  // The course's formulas about a centre (docs/algorithms.md §2):
+  // x' = xc + (x−xc)cosθ − (y−yc)sinθ, ...
   const Vec3 centre(1, 2, 3), p(4, -1, 7);
   Vec3 q = Transform::rotation_z(t, centre).apply(p);
   EXPECT_NEAR(q.x(), 1 + 3 * c - (-3) * s, 1e-12);

@@ -1,6 +1,6 @@
-// The raster renderer (render/raster.h): pixel tests on small images against formulas and
-// independent oracles (ray casting for visibility, the exact shadow polygons and kernel/shadows'
-// exact point test for shadows), and golden images.
+// The raster renderer (hedra/render/raster.h): pixel tests on small images against formulas and
+// independent oracles (ray casting for visibility, the exact shadow polygons and the exact point
+// test of hedra/visibility/shadows.h for shadows), and golden images.
 #include "hedra/render/raster.h"
 
 #include <gtest/gtest.h>
@@ -170,9 +170,9 @@ TEST(RasterOptions, RejectsBadSettings) {
 
 // ---- Lighting ----
 
-// One face seen face-on by the course's viewer at +∞ on z under a directional light: every
-// pixel of it has I = I_a k_a C + I_l [k_d (n̂·L̂) C + k_s (R̂·Ŝ)^n] exactly (rounded to 8 bits),
-// in each shading mode.
+// One face seen face-on by the course's viewer (docs/algorithms.md §6.1) at +∞ on z under a
+// directional light: every pixel of it has I = I_a k_a C + I_l [k_d (n̂·L̂) C + k_s (R̂·Ŝ)^n]
+// exactly (rounded to 8 bits), in each shading mode.
 TEST(RasterLighting, SingleLitFaceHasTheFormulaIntensity) {
   Scene scene;
   Material m;
@@ -184,6 +184,7 @@ TEST(RasterLighting, SingleLitFaceHasTheFormulaIntensity) {
   const double r_dot_s = std::sqrt(0.5);    // R̂ = (−1,0,1)/√2, Ŝ = (0,0,1)
   for (Shading shading : {Shading::Flat, Shading::Gouraud, Shading::Phong}) {
     RenderOptions o;
+    o.shadows.method = ShadowSettings::Method::None;  // lighting only
     o.width = o.height = 24;
     o.shading = shading;
     const Image image = render(scene, o);
@@ -213,6 +214,7 @@ TEST(RasterLighting, PointAndSpotLightsWithAttenuationFollowTheFormula) {
   scene.lights.push_back(Light::spot({-1, -1, 4}, {0.2, 0.1, -1}, 30, 2, 0.7));
   for (const std::string att : {"none", "linear:3", "quadratic:1,0.2,0.05"}) {
     RenderOptions o;
+    o.shadows.method = ShadowSettings::Method::None;  // lighting only
     o.width = o.height = 32;
     o.ambient = 0.5;
     o.attenuation = Attenuation::parse(att);
@@ -263,6 +265,7 @@ TEST(RasterLighting, PhongShowsAHighlightInsideAFaceGouraudDoesNot) {
   scene.camera = Camera::perspective({0, -0.01, 6}, {0, 0, 0}, 70);
   scene.lights.push_back(Light::point({0, 0, 6}, 1.0));
   RenderOptions o;
+  o.shadows.method = ShadowSettings::Method::None;  // lighting only
   o.width = o.height = 41;
   o.shading = Shading::Phong;
   const Image phong = render(scene, o);
@@ -296,6 +299,7 @@ TEST(RasterLighting, SmoothNormalsMakeASphereRoundAndKeepRealEdgesSharp) {
   scene.lights.push_back(Light::directional({-0.3, 0.4, -1}, 1.0));
   const Vec3 to_light = Vec3(0.3, -0.4, 1).normalized();
   RenderOptions o;
+  o.shadows.method = ShadowSettings::Method::None;  // lighting only
   o.width = o.height = 64;
   double error[3] = {0, 0, 0};
   int counted = 0;
@@ -377,6 +381,7 @@ TEST(SmoothSurface, SceneFilesRecordCurvedPrimitives) {
 void expect_visibility_matches_ray_casting(const Scene& scene, int width, int height, int aa,
                                            int* compared_out = nullptr) {
   RenderOptions o;
+  o.shadows.method = ShadowSettings::Method::None;  // lighting only
   o.width = width;
   o.height = height;
   o.aa = aa;
@@ -453,7 +458,7 @@ TEST(RasterVisibility, OutputDoesNotDependOnThreadsOrTiles) {
 
 // Exact shadows: a sample is dark for a light exactly when its point lies in a shadow polygon
 // of that light on its face (or the face turns away from the light), checked against the
-// polygons and, independently, against kernel/shadows' exact point test.
+// polygons and, independently, against the exact point test of hedra/visibility/shadows.h.
 TEST(RasterShadows, ExactShadowPixelsMatchTheShadowPolygons) {
   const Scene scene = shadow_scene();
   const ShadowResult exact = compute_shadows(scene);
@@ -711,6 +716,7 @@ TEST(RasterShadows, RaysWithSeveralSamplesGivePartialShadowOnlyAtEdges) {
 TEST(RasterImage, SupersamplingAveragesTheSamples) {
   Scene scene = shadow_scene();
   RenderOptions o;
+  o.shadows.method = ShadowSettings::Method::None;  // lighting only
   o.shading = Shading::Flat;
   o.aa = 16;
   SampleRecord rec;

@@ -1,5 +1,5 @@
 // The decomposition suite of issue "Exact convex decomposition": shapes built in code, used by
-// tests/decompose_test.cpp and bench/.
+// tests/decompose/decompose_test.cpp and bench/.
 #pragma once
 
 #include <cmath>

@@ -116,7 +116,7 @@ Camera random_camera(std::mt19937& random, bool perspective) {
   return Camera::perspective(centre - 4 * d.normalized() * (3 + std::abs(u(random))), centre, 60);
 }
 
-// ---- Stage 1: the course's single cube ----
+// ---- Stage 1: the course's single cube (docs/algorithms.md §6.1) ----
 
 TEST(Roberts, CourseCubeFromPlusZ) {
   // The course's cube [−1, 1]³ and viewer at +∞ on z (E = (0, 0, −1, 0)): E·V is −1 for the
@@ -172,7 +172,7 @@ TEST(Roberts, CourseCubeRotated) {
   EXPECT_NEAR(r.length(LineKind::Edge, false), 6, 1e-12);
 }
 
-// ---- Stage 2: fast method against the course's (t, a) oracle ----
+// ---- Stage 2: fast method against the course's (t, a) oracle (docs/algorithms.md §6.2) ----
 
 TEST(Roberts, HiddenPartAgreesWithTheOracleOnSegments) {
   // Random segments and degenerate ones (along faces, through vertices, in silhouette planes)

@@ -16,7 +16,8 @@
 namespace hedra {
 namespace {
 
-// Box faces in course order: x = min, x = max, y = min, y = max, z = min, z = max.
+// Box faces in course order (docs/algorithms.md §1): x = min, x = max, y = min, y = max,
+// z = min, z = max.
 constexpr int kXMin = 0, kXMax = 1, kYMin = 2, kYMax = 3, kZMin = 4, kZMax = 5;
 
 Scene ground_scene(double half = 10) {

@@ -74,7 +74,8 @@ std::uint8_t halfspace_outcode(const ViewFrustum& f, const Vec3& p) {
 
 std::uint8_t outcode(const ViewFrustum& f, const Vec3& p) {
   std::uint8_t code = halfspace_outcode(f, p);
-  // The course's fix: beyond the centre of projection the first four bits are inverted.
+  // The course's fix (docs/algorithms.md §3.2): beyond the centre of projection the first four bits
+  // are inverted.
   if (p.z() > f.z_cp) code ^= kOutSides;
   return code;
 }

@@ -1,6 +1,7 @@
 #include "hedra/core/primitives.h"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -10,6 +11,12 @@ namespace hedra {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
+
+std::string number(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  return buf;
+}
 
 void require(bool ok, const std::string& message) {
   if (!ok) throw InvalidInput(message);
@@ -57,6 +64,27 @@ Polygon2 clean(Polygon2 p, bool ccw, const std::string& what) {
   return p;
 }
 
+// True when `p` lies on the closed segment ab (exact: orientation, then the box of ab).
+bool on_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
+  if (orient2d(a, b, p) != Sign::Zero) return false;
+  return std::min(a.x(), b.x()) <= p.x() && p.x() <= std::max(a.x(), b.x()) &&
+         std::min(a.y(), b.y()) <= p.y() && p.y() <= std::max(a.y(), b.y());
+}
+
+// The first vertex of `a` on the boundary of `b`, or of `b` on `a`: loops that touch make a
+// body pinched along a vertical edge (a T-junction no mesh file can store closed; fuzz finding).
+// Cost O(|a|·|b|).
+const Vec2* touching_vertex(const Polygon2& a, const Polygon2& b) {
+  for (int pass = 0; pass < 2; ++pass) {
+    const Polygon2& u = pass ? b : a;
+    const Polygon2& v = pass ? a : b;
+    for (const Vec2& p : u)
+      for (size_t i = 0; i < v.size(); ++i)
+        if (on_segment(p, v[i], v[(i + 1) % v.size()])) return &p;
+  }
+  return nullptr;
+}
+
 Polygon2 circle(int n, double r) {
   Polygon2 p;
   for (int i = 0; i < n; ++i) {
@@ -93,6 +121,12 @@ Body prism(const Polygon2& outline, double z0, double z1, const std::vector<Poly
   std::vector<Polygon2> loops{clean(outline, true, "prism outline")};
   for (size_t h = 0; h < holes.size(); ++h)
     loops.push_back(clean(holes[h], false, "prism hole " + std::to_string(h)));
+  for (size_t h = 1; h < loops.size(); ++h)
+    for (size_t g = 0; g < h; ++g)
+      if (const Vec2* p = touching_vertex(loops[h], loops[g]))
+        throw InvalidInput("prism hole " + std::to_string(h - 1) + " touches " +
+                           (g == 0 ? std::string("the outline") : "hole " + std::to_string(g - 1)) +
+                           " at (" + number(p->x()) + ", " + number(p->y()) + ")");
 
   std::vector<Vec3> v;
   std::vector<std::vector<int>> bottom, top;
@@ -160,28 +194,54 @@ Body frustum(const Polygon2& base, double z0, const Vec3& apex, double z1) {
   return Body(std::move(v), std::move(faces));
 }
 
-Body regular_prism(int n, double r, double z0, double z1) {
+namespace {
+
+void require_budget(const char* shape, double faces, double tolerance, int max_faces) {
+  if (faces <= max_faces) return;
+  char count[32];
+  std::snprintf(count, sizeof count, "%.0f", faces);
+  throw FaceBudgetExceeded(std::string(shape) + (tolerance > 0 ? " at chordal tolerance " + number(tolerance) : "") +
+                           " needs " + count + " faces, more than the limit of " +
+                           std::to_string(max_faces) + " (max_faces)");
+}
+
+void require_resolvable(double radius, double tolerance) {
+  require(std::isfinite(radius) && radius > 0, "radius must be positive");
+  require(std::isfinite(tolerance) && tolerance > 0, "chordal tolerance must be positive");
+  if (tolerance < kMinRelativeTolerance * radius)
+    throw InvalidInput("chordal tolerance " + number(tolerance) + " is below what doubles can honour at radius " +
+                       number(radius) + " (at least " + number(kMinRelativeTolerance) +
+                       " of the radius: vertex coordinates are rounded to about 1e-16 of it)");
+}
+
+}  // namespace
+
+Body regular_prism(int n, double r, double z0, double z1, int max_faces) {
   require(n >= 3, "a regular prism needs at least 3 sides");
   require(std::isfinite(r) && r > 0, "regular prism radius must be positive");
+  require_budget("regular prism", static_cast<double>(n) + 2, 0, max_faces);
   return prism(circle(n, r), z0, z1);
 }
 
 int segments_for_tolerance(double radius, double tolerance) {
-  require(std::isfinite(radius) && radius > 0, "radius must be positive");
-  require(std::isfinite(tolerance) && tolerance > 0, "chordal tolerance must be positive");
+  require_resolvable(radius, tolerance);
   if (tolerance >= radius) return 3;
-  // r (1 − cos(π/n)) <= tol  ⇔  n >= π / acos(1 − tol/r)
+  // r (1 − cos(π/n)) <= tol  ⇔  n >= π / acos(1 − tol/r); tol/r >= 1e-13 keeps n below 1e7.
   int n = static_cast<int>(std::ceil(kPi / std::acos(1 - tolerance / radius) - 1e-9));
   while (radius * (1 - std::cos(kPi / n)) > tolerance) ++n;
   return std::max(n, 3);
 }
 
-Body cylinder(double radius, double z0, double z1, double tolerance) {
-  return regular_prism(segments_for_tolerance(radius, tolerance), radius, z0, z1);
+Body cylinder(double radius, double z0, double z1, double tolerance, int max_faces) {
+  const int n = segments_for_tolerance(radius, tolerance);
+  require_budget("cylinder", static_cast<double>(n) + 2, tolerance, max_faces);
+  return regular_prism(n, radius, z0, z1, max_faces);
 }
 
-Body cone(double radius, double z0, double z1, double tolerance) {
-  return pyramid(circle(segments_for_tolerance(radius, tolerance), radius), z0, Vec3(0, 0, z1));
+Body cone(double radius, double z0, double z1, double tolerance, int max_faces) {
+  const int n = segments_for_tolerance(radius, tolerance);
+  require_budget("cone", static_cast<double>(n) + 1, tolerance, max_faces);
+  return pyramid(circle(n, radius), z0, Vec3(0, 0, z1));
 }
 
 namespace {
@@ -236,13 +296,20 @@ double sphere_chordal_error(double radius, int rings) {
   return worst;
 }
 
-Body sphere(const Vec3& centre, double radius, double tolerance) {
+Body sphere(const Vec3& centre, double radius, double tolerance, int max_faces) {
   require(centre.allFinite(), "sphere centre is not finite");
   require(std::isfinite(radius) && radius > 0, "sphere radius must be positive");
-  require(std::isfinite(tolerance) && tolerance > 0, "chordal tolerance must be positive");
+  require_resolvable(radius, tolerance);
+  // 2·rings² faces: the most rings the budget allows.
+  const int max_rings = std::max(2, static_cast<int>(std::sqrt(std::max(max_faces, 8) / 2.0)));
   int rings = 2;
   while (sphere_chordal_error(radius, rings) > tolerance) {
-    require(rings < 4096, "sphere: chordal tolerance too small for a tessellation");
+    if (rings >= max_rings) {
+      // The error falls as 1/rings²: the rings needed, estimated from the last count tried.
+      const double needed = std::max<double>(
+          rings + 1, std::ceil(rings * std::sqrt(sphere_chordal_error(radius, rings) / tolerance)));
+      require_budget("sphere", std::max(2 * needed * needed, max_faces + 1.0), tolerance, max_faces);
+    }
     ++rings;
   }
   std::vector<Vec3> v;

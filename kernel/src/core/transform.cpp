@@ -48,7 +48,7 @@ Transform Transform::scaling(const Vec3& k, const Vec3& centre) {
   m(1, 1) = k.y();
   m(2, 2) = k.z();
   // x' = x·kx + (1 − kx)·xm, written directly rather than as a product of three matrices,
-  // so the course's formula is reproduced without extra rounding.
+  // so the course's formula (docs/algorithms.md §2) is reproduced without extra rounding.
   for (int i = 0; i < 3; ++i) m(3, i) = (1.0 - k[i]) * centre[i];
   return Transform(m);
 }

@@ -1,5 +1,5 @@
 // Exact 2D Boolean operations on polygon sets through CGAL (Epeck), behind the thin adapter of
-// kernel/polygon_union.h. The only translation unit of hedra that instantiates CGAL's
+// hedra/visibility/polygon_union.h. The only translation unit of hedra that instantiates CGAL's
 // Boolean_set_operations_2 (it is slow to compile).
 #include <CGAL/Boolean_set_operations_2.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>

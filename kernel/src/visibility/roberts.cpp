@@ -50,7 +50,7 @@ namespace {
 // ---- Stage 2, fast path: the open part of a segment inside an occlusion volume ----
 
 // An end of a hidden part: an exact end of the segment (plane == nullptr, t = 0 or 1) or the
-// crossing of `plane`, t rounded with its error bound (kernel/cyrus_beck.h).
+// crossing of `plane`, t rounded with its error bound (hedra/clip/cyrus_beck.h).
 struct End {
   double t = 0;
   double error = 0;
@@ -102,7 +102,7 @@ Sign fast_orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return orient3d(a, b, c, d);
 }
 
-// Facing of a face from its support triple (exactly as kernel/occlusion's facing()): the
+// Facing of a face from its support triple (exactly as occlusion.h's facing()): the
 // support triple's orient3d is Positive on the outer side.
 Facing fast_facing(const Body& body, int face, const Viewpoint& view) {
   const auto& s = body.support(face);
@@ -121,7 +121,7 @@ Facing fast_facing(const Body& body, int face, const Viewpoint& view) {
                                    : (outward == Sign::Zero ? Facing::EdgeOn : Facing::Back);
 }
 
-// The exact convexity test of kernel/convexity (no vertex off a face strictly outside its
+// The exact convexity test of hedra/mesh/convexity.h (no vertex off a face strictly outside its
 // support plane; a face's own vertices, which rounding may put a few ulps off, are not
 // tested), with the static filter.
 bool fast_convex(const Body& body) {
@@ -149,7 +149,7 @@ bool exact_sum(const Vec3& a, const Vec3& d, Vec3& c) {
   return true;
 }
 
-// The occlusion volume of a convex piece, the planes of kernel/occlusion's occlusion_volume()
+// The occlusion volume of a convex piece, the planes of occlusion.h's occlusion_volume()
 // built with less work: facing by the static filter, front-face planes through the support
 // triples (whose orientation rule, orient3d Positive outside, makes ExactPlane::through inner
 // side Positive already), and each silhouette plane oriented by the vertex farthest from it in
@@ -267,8 +267,8 @@ void complement(const std::vector<TInterval>& parts, std::vector<TInterval>& out
 
 class PictureGrid {
  public:
-  // Cells about the mean size of the boxes (the course's N1·N2 cells of about an edge's
-  // length), at most 4 per box.
+  // Cells about the mean size of the boxes (docs/algorithms.md §6.7: the course's N1·N2 cells of
+  // about an edge's length), at most 4 per box.
   void build(const std::vector<Eigen::AlignedBox2d>& boxes, const Eigen::AlignedBox2d& extent) {
     origin_ = extent.min();
     const Vec2 size = extent.sizes().cwiseMax(1e-300);
@@ -898,7 +898,8 @@ class Roberts {
     const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
     Scratch scratch;
     std::vector<int> ids;
-    for (const auto& [i, j] : touching_pairs()) {
+    for (const auto& [pair_i, pair_j] : touching_pairs()) {
+      const int i = pair_i, j = pair_j;  // lambdas below capture them (clang 14: not bindings)
       // A junction segment lies on face fa of body i and face fb of body j.
       const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
                                                detail::Candidates& out) {

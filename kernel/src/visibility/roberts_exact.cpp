@@ -1,6 +1,6 @@
-// The exact parts of Roberts hidden-line removal (kernel/detail/roberts_exact.h): the course's
-// (t, a) oracle, the rational path for segments lying in an edge-on internal cut plane, and
-// junction lines. Numbers are CGAL::Mpzf (exact sums and products of doubles); points are
+// The exact parts of Roberts hidden-line removal (roberts_exact.h): the course's (t, a) oracle
+// (docs/algorithms.md §6.2), the rational path for segments lying in an edge-on internal cut plane,
+// and junction lines. Numbers are CGAL::Mpzf (exact sums and products of doubles); points are
 // homogeneous (X, W) with W > 0, so a crossing of an input edge with an input plane is exact
 // without a division, and parameters are fractions compared by cross-multiplication.
 #include "visibility/roberts_exact.h"

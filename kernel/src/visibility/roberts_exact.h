@@ -1,5 +1,5 @@
-// Internals of kernel/roberts: the parts computed in exact arithmetic (CGAL::Mpzf on
-// homogeneous points), kept in one translation unit (kernel/roberts_exact.cpp).
+// Internals of hedra/visibility/roberts.h: the parts computed in exact arithmetic (CGAL::Mpzf
+// on homogeneous points), kept in one translation unit (roberts_exact.cpp).
 #pragma once
 
 #include <functional>
@@ -41,10 +41,10 @@ struct Candidates {
 };
 
 /// Visible parts [t0, t1] (t rounded, ascending, positive length) of segment p1p2 against the
-/// candidates, every decision and every intermediate value exact: hidden parts are the open
-/// parts strictly inside each piece's occlusion volume (or, with `brute_force`, the course's
-/// (t, a) solution on the piece's faces) and, for a segment lying in a facet's plane C, the
-/// facet's hidden part; touching hidden parts join.
+/// candidates, every decision and every intermediate value exact: hidden parts are the open parts
+/// strictly inside each piece's occlusion volume (or, with `brute_force`, the course's (t, a)
+/// solution, docs/algorithms.md §6.2, on the piece's faces) and, for a segment lying in a facet's
+/// plane C, the facet's hidden part; touching hidden parts join.
 std::vector<std::pair<double, double>> visible_parts_exact(const Vec3& p1, const Vec3& p2,
                                                            const Candidates& candidates,
                                                            const Viewpoint& view,
@@ -61,10 +61,10 @@ Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d
 /// True when d is parallel to b − a (exactly; d ≠ 0).
 bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d);
 
-/// The visible parts of the junction lines of two bodies A and B: the closure of the points
-/// lying in the relative interior of a face of A and of a face of B whose planes cross. End
-/// points (crossings of edges with face planes: the course's penetration points) are exact
-/// homogeneous points; visibility is decided by `query`'s candidates as in
+/// The visible parts of the junction lines of two bodies A and B: the closure of the points lying
+/// in the relative interior of a face of A and of a face of B whose planes cross. End points
+/// (crossings of edges with face planes: the course's penetration points, docs/algorithms.md §6.5)
+/// are exact homogeneous points; visibility is decided by `query`'s candidates as in
 /// visible_parts_exact. `found` counts junction segments before visibility.
 struct JunctionPart {
   Vec3 a, b;

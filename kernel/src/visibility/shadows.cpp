@@ -172,7 +172,7 @@ Sign direction_sign_fast(const ExactPlane& f, const Vec3& d) {
   return direction_sign(f, d);
 }
 
-// Exactly facing() of kernel/occlusion.h, on a cached face plane.
+// Exactly facing() of hedra/visibility/occlusion.h, on a cached face plane.
 Facing facing_of(const ExactPlane& plane, const Viewpoint& view) {
   if (view.at_infinity) {
     const Sign s = direction_sign_fast(plane, view.direction);
@@ -508,7 +508,7 @@ ShadowPolygon whole_face(const Body& body, int f) {
   return s;
 }
 
-// occlusion_volume() of kernel/occlusion.h on cached face planes: the same planes, built the
+// occlusion_volume() of occlusion.h on cached face planes: the same planes, built the
 // same way (front faces, then the planes through the silhouette edges and the viewpoint or
 // parallel to its direction, each oriented by a vertex strictly off it). Only the clipper is
 // filled in (front_faces and silhouette stay empty: nothing here reads them).
@@ -554,7 +554,7 @@ OcclusionVolume volume_of(const PieceData& piece, const Viewpoint& view) {
   return out;
 }
 
-// Exact convexity (kernel/convexity.h's test: no vertex strictly outside a face plane) on the
+// Exact convexity (hedra/mesh/convexity.h's test: no vertex strictly outside a face plane) on the
 // cached planes.
 bool convex_by_planes(const Body& body, const std::vector<ExactPlane>& planes) {
   std::vector<int> on_face(static_cast<size_t>(body.vertex_count()), -1);
@@ -821,7 +821,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
           partial.push_back(l);
       }
       if (whole == 0 && partial.empty()) return;
-      auto add = [&](int count, double area, std::vector<ShadowPolygon> polys) {
+      auto add = [&, f = f](int count, double area, std::vector<ShadowPolygon> polys) {
         per_face[i].push_back({bd.scene_index, f, count, area, std::move(polys)});
       };
       auto lifted = [&](const UnionResult& u) {
@@ -1021,9 +1021,11 @@ SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
         hi = hi.cwiseMax(q);
       }
     const double s = options.grid_spacing / std::sqrt(fd.area_factor);  // spacing along the face
-    const long nx = static_cast<long>(std::ceil((hi.x() - lo.x()) / s)),
-               ny = static_cast<long>(std::ceil((hi.y() - lo.y()) / s));
-    if (nx * ny > 1000000) throw InvalidInput("sun study: the grid has more than a million points");
+    // Counted in double first: a tiny spacing would overflow a long (1e-300 gives 1e300).
+    const double cells_x = std::ceil((hi.x() - lo.x()) / s), cells_y = std::ceil((hi.y() - lo.y()) / s);
+    if (!(cells_x * cells_y <= 1000000))
+      throw InvalidInput("sun study: the grid has more than a million points");
+    const long nx = static_cast<long>(cells_x), ny = static_cast<long>(cells_y);
     for (long y = 0; y < ny; ++y)
       for (long x = 0; x < nx; ++x) {
         const Vec2 q(lo.x() + (x + 0.5) * s, lo.y() + (y + 0.5) * s);

@@ -52,7 +52,7 @@ struct ScanPolygon {
 
 /// Clips a closed ring given in homogeneous raster coordinates (X, Y, W) to the view volume:
 /// W ≥ near (perspective views) and −guard ≤ X/W ≤ width + guard, likewise for Y
-/// (Sutherland–Hodgman, algorithms.md §3). Returns the clipped ring in raster coordinates
+/// (Sutherland–Hodgman, docs/algorithms.md §3.5). Returns the clipped ring in raster coordinates
 /// (empty when nothing is left). Cost O(n).
 void clip_ring(const std::vector<Eigen::Vector3d>& ring, const RasterView& view, double guard,
                std::vector<Point2>& out, std::vector<Eigen::Vector3d>& scratch);

@@ -11,7 +11,7 @@ namespace hedra::io {
 /// \throw InvalidInput when the sizes do not match the pixel data. Cost O(pixels).
 std::string encode_png(int width, int height, const std::vector<uint8_t>& rgb);
 
-/// Writes encode_png's bytes to `path` through a temporary file (io/atomic_file.h), so a
+/// Writes encode_png's bytes to `path` through a temporary file (hedra/io/atomic_file.h), so a
 /// failed run leaves no half-written image. \throw IoError naming the file.
 void write_png(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 

@@ -1,6 +1,7 @@
 // Line-by-line reading of text mesh formats with "file:line:" error locations.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -32,7 +33,18 @@ class TextReader {
   std::vector<std::string_view> tokens_;
 };
 
-/// Whole file as bytes. \throw IoError naming the file when it cannot be read.
+/// Largest input file read by default: 1 GiB. Every reader's memory is bounded by a small
+/// multiple of its input (docs/io.md, "Resource limits"), so this bounds them all.
+constexpr size_t kDefaultMaxInputBytes = size_t{1} << 30;
+/// The input limit in force: HEDRA_MAX_INPUT_BYTES from the environment if set, else
+/// kDefaultMaxInputBytes.
+size_t max_input_bytes();
+
+/// Whole file as bytes, at most max_input_bytes() of them. \throw IoError naming the file
+/// when it cannot be read, is a directory, or is larger than the limit (a device such as
+/// /dev/zero stops at the limit).
 std::string read_file(const std::string& path);
+/// The same with an explicit limit.
+std::string read_file(const std::string& path, size_t max_bytes);
 
 }  // namespace hedra::io

@@ -1,7 +1,7 @@
 // Clipping millions of segments against one convex clipper: structure-of-arrays input, a
 // branch-free inner loop over four segments at a time (GCC/Clang vector extensions: AVX2 where
 // the CPU has it, else SSE2), TBB threads for large batches, and results
-// identical, bit for bit, to the scalar Cyrus–Beck (kernel/cyrus_beck.h).
+// identical, bit for bit, to the scalar Cyrus–Beck (hedra/clip/cyrus_beck.h).
 //
 // How the results stay identical: the vectorized loop evaluates the same double expressions as
 // the scalar path (ExactPlane::value, crossing_from_values) and accepts a segment only when

@@ -1,5 +1,5 @@
 // A convex clipping volume prepared for clipping segments and polygons: the closed
-// intersection of the inner half-spaces of its planes (algorithms.md §3–4).
+// intersection of the inner half-spaces of its planes (docs/algorithms.md §3–4).
 #pragma once
 
 #include <vector>
@@ -19,7 +19,7 @@ class ConvexClipper {
   /// triple, so every side decision equals Body::face_side exactly and segments along the
   /// body's own edges or through its own vertices are clipped exactly.
   /// \throw InvalidInput "the clipper is not convex: vertices lie outside the planes of faces
-  ///   4, 5" when the body is not convex (algorithms.md §4, step 2). Cost O(F·V) for the exact
+  ///   4, 5" when the body is not convex (docs/algorithms.md §4, step 2). Cost O(F·V) for the exact
   ///   convexity test.
   explicit ConvexClipper(const Body& body);
 

@@ -1,4 +1,4 @@
-// Cyrus–Beck clipping of segments against convex clippers (algorithms.md §4), exterior
+// Cyrus–Beck clipping of segments against convex clippers (docs/algorithms.md §4), exterior
 // clipping (erasing), and clipping against a non-convex clipper given by convex pieces.
 //
 // Exactness. Every decision is exact: the side of each end point with respect to each plane
@@ -65,10 +65,10 @@ inline Crossing crossing_from_values(double w, double e, double bound_w, double 
 /// Cost O(1).
 Crossing crossing(const ExactPlane& f, const Vec3& p1, const Vec3& p2);
 
-/// Cyrus–Beck (algorithms.md §4): the part of segment p1p2 inside the closed convex clipper, or
-/// nullopt. The course's step 5 with exact signs: Wn = f(P1), Dn = f(P2) − f(P1), so "Dn = 0,
-/// Wn < 0" and "t > 1" / "t < 0" are "both ends strictly outside one plane"; a plane that both
-/// ends are on or inside does not bound; the others give t = −Wn/Dn, lower bounds where
+/// Cyrus–Beck (docs/algorithms.md §4): the part of segment p1p2 inside the closed convex clipper,
+/// or nullopt. The course's step 5 with exact signs: Wn = f(P1), Dn = f(P2) − f(P1), so
+/// "Dn = 0, Wn < 0" and "t > 1" / "t < 0" are "both ends strictly outside one plane"; a plane that
+/// both ends are on or inside does not bound; the others give t = −Wn/Dn, lower bounds where
 /// Dn > 0 and upper bounds where Dn < 0, of which the exact maximum and minimum count.
 /// Degenerate inputs are exact: a point segment (inside or not), a segment parallel to a face
 /// (inside, outside, or in its plane: kept, since the clipper is closed), through a vertex or

@@ -1,5 +1,5 @@
 // Clipping planar polygons against a convex volume: a Sutherland–Hodgman pipeline of planes
-// (algorithms.md §3), the operation cast shadows are made of.
+// (docs/algorithms.md §3.5), the operation cast shadows are made of.
 //
 // Representation. A polygon is a ring of 3D points (Polygon3), planar, simple, either
 // orientation. The result of clipping is a list of such rings with the input's orientation:
@@ -15,7 +15,7 @@
 // along a plane are joined into pieces depends on the order of the crossing points along the
 // cutting line, which is also decided exactly (compare_crossings_along on the exact crossing
 // points). Only new vertices (edge–plane intersections) are rounded, with the bound of
-// kernel/cyrus_beck.h on their parameter.
+// hedra/clip/cyrus_beck.h on their parameter.
 #pragma once
 
 #include <vector>

@@ -1,5 +1,5 @@
 // Body: a closed, consistently oriented polyhedron with planar polygonal faces, carrying its
-// inner normals and body matrix. hedra's solid model (algorithms.md §1, §6 stage 0).
+// inner normals and body matrix. hedra's solid model (docs/algorithms.md §1).
 #pragma once
 
 #include <array>
@@ -76,7 +76,7 @@ class Body {
   const Plane& plane(int f) const;
   Vec3 inner_normal(int f) const { return plane(f).normal(); }
   /// The body matrix V (4 × faces): column j is plane(j).coefficients. For a convex body this
-  /// equals the course's matrix signed by the vertex average (algorithms.md §6).
+  /// equals the course's matrix signed by the vertex average (docs/algorithms.md §1).
   const BodyMatrix& matrix() const;
   /// Three vertices of face f that define its exact supporting plane (outer-loop order, so
   /// orient3d(a, b, c, p) is Positive outside and Negative inside). Chosen once, well
@@ -131,7 +131,7 @@ class Body {
 void check_polygon_mesh(const std::vector<Vec3>& vertices, const std::vector<Face>& faces);
 
 /// Signs the columns of a plane matrix the course's way: each column is multiplied by −1
-/// when the interior point s gives a negative value (algorithms.md §6, stage 0).
+/// when the interior point s gives a negative value (docs/algorithms.md §1).
 BodyMatrix sign_by_interior_point(BodyMatrix planes, const Vec3& s);
 
 }  // namespace hedra

@@ -12,7 +12,7 @@ using Vec4 = Eigen::Vector4d;
 /// Plane (a, b, c, d) of a face: interior points of the body give a·x + b·y + c·z + d > 0,
 /// so (a, b, c) is the inner normal. Faces of a Body store unit-length normals, so value()
 /// is the signed distance. value() is a floating-point construction; exact side decisions go
-/// through kernel/predicates.h.
+/// through hedra/core/predicates.h.
 struct Plane {
   Vec4 coefficients = Vec4::Zero();  // (a, b, c, d): a column of the body matrix
 

@@ -48,7 +48,7 @@ SegmentTriangle segment_triangle(const Vec3& p, const Vec3& q, const Vec3& a, co
 /// The triangle must not be degenerate. Cost O(1).
 bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
-// ---- Oriented planes for clipping (kernel/cyrus_beck.h, batch_clip.h, polygon_clip.h) ----
+// ---- Oriented planes for clipping (hedra/clip/cyrus_beck.h, batch_clip.h, polygon_clip.h) ----
 
 /// An oriented plane as an exact affine function f(p), Positive on its inner side, together
 /// with a double form n·p + k whose evaluation error is bounded, so that callers can decide a

@@ -8,13 +8,30 @@
 #include <vector>
 
 #include "hedra/core/body.h"
+#include "hedra/core/error.h"
 
 namespace hedra {
 
 using Polygon2 = std::vector<Vec2>;
 
-/// Axis-aligned box. Faces in the course's order: x = min, x = max, y = min, y = max,
-/// z = min, z = max, so box({−1,−1,−1}, {1,1,1}).matrix() is the course's matrix.
+/// Most faces a curved primitive or a regular prism may have unless the caller allows more
+/// (scene files: the "max_faces" key). It keeps a tiny input (a cylinder at tolerance 1e-12)
+/// from building millions of faces.
+constexpr int kDefaultMaxFaces = 100000;
+/// Smallest chordal tolerance, relative to the radius, that a tessellation can honour: vertex
+/// coordinates are rounded to about 1e-16 of the radius, so below this the requested error is
+/// lost in rounding (and the side count would overflow). Tolerances below it are rejected.
+constexpr double kMinRelativeTolerance = 1e-13;
+
+/// A primitive needs more faces than the allowed maximum; the message names the shape, the
+/// tolerance, the face count it would need and the limit.
+class FaceBudgetExceeded : public InvalidInput {
+ public:
+  using InvalidInput::InvalidInput;
+};
+
+/// Axis-aligned box (docs/algorithms.md §1). Faces in the course's order: x = min, x = max, y =
+/// min, y = max, z = min, z = max, so box({−1,−1,−1}, {1,1,1}).matrix() is the course's matrix.
 /// \throw InvalidInput unless min < max in every coordinate.
 Body box(const Vec3& min, const Vec3& max);
 
@@ -22,7 +39,7 @@ Body box(const Vec3& min, const Vec3& max);
 /// polygonal holes, extruded from z = z0 to z = z1. Consecutive collinear outline vertices are
 /// dropped (they would only split side faces). Faces: bottom, top, then one side face per
 /// outline edge and per hole edge. \throw InvalidInput on self-crossing outlines, holes
-/// outside the outline, or z0 >= z1.
+/// outside the outline, holes touching the outline or each other, or z0 >= z1.
 Body prism(const Polygon2& outline, double z0, double z1,
            const std::vector<Polygon2>& holes = {});
 
@@ -35,24 +52,30 @@ Body pyramid(const Polygon2& base, double z0, const Vec3& apex);
 Body frustum(const Polygon2& base, double z0, const Vec3& apex, double z1);
 
 /// Regular n-gon prism about the z axis with circumradius r, first vertex at angle 0.
-Body regular_prism(int n, double r, double z0, double z1);
+/// \throw FaceBudgetExceeded when its n + 2 faces are more than `max_faces`.
+Body regular_prism(int n, double r, double z0, double z1, int max_faces = kDefaultMaxFaces);
 
 /// Number of segments of a regular polygon inscribed in a circle of radius r whose chordal
-/// error r·(1 − cos(π/n)) is at most `tolerance` (at least 3).
+/// error r·(1 − cos(π/n)) is at most `tolerance` (at least 3). \throw InvalidInput when
+/// tolerance < kMinRelativeTolerance·radius (not representable in doubles).
 int segments_for_tolerance(double radius, double tolerance);
 
 /// Cylinder about the z axis from z0 to z1, radius r, inscribed n-gon prism with the fewest
-/// sides whose chordal error is at most `tolerance`.
-Body cylinder(double radius, double z0, double z1, double tolerance);
+/// sides whose chordal error is at most `tolerance`. \throw FaceBudgetExceeded beyond
+/// `max_faces` faces.
+Body cylinder(double radius, double z0, double z1, double tolerance,
+              int max_faces = kDefaultMaxFaces);
 
 /// Cone: base circle of radius r at z0, apex (0, 0, z1); inscribed pyramid, chordal error at
-/// most `tolerance`.
-Body cone(double radius, double z0, double z1, double tolerance);
+/// most `tolerance`. \throw FaceBudgetExceeded beyond `max_faces` faces.
+Body cone(double radius, double z0, double z1, double tolerance, int max_faces = kDefaultMaxFaces);
 
 /// Sphere of radius r about `centre`: latitude–longitude polyhedron (quad bands, triangle
 /// fans at the poles) with all vertices on the sphere and the fewest bands for which the
 /// largest distance from the sphere to the polyhedron is at most `tolerance`.
-Body sphere(const Vec3& centre, double radius, double tolerance);
+/// \throw FaceBudgetExceeded beyond `max_faces` faces (2·rings² faces), InvalidInput below
+/// kMinRelativeTolerance·radius. Cost O(rings²) to choose the rings.
+Body sphere(const Vec3& centre, double radius, double tolerance, int max_faces = kDefaultMaxFaces);
 
 /// The chordal error the sphere() tessellation with `rings` latitude bands (and 2·rings
 /// meridians) has: the largest distance from the sphere to any face plane.

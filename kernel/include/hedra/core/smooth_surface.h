@@ -1,6 +1,6 @@
 // The analytic surface a curved primitive approximates. The polyhedron stays the model for
 // every geometric decision; this only gives shading the true surface normals, so a
-// tessellated sphere looks round (algorithms.md §8: "normals: gradient of an analytic
+// tessellated sphere looks round (docs/algorithms.md §8: "normals: gradient of an analytic
 // surface") while real edges — a cylinder's rim, a box's edges — stay sharp.
 #pragma once
 
@@ -9,7 +9,7 @@
 
 namespace hedra {
 
-/// A sphere, a cylinder or a cone as built by kernel/primitives.h (cylinder and cone about
+/// A sphere, a cylinder or a cone as built by hedra/core/primitives.h (cylinder and cone about
 /// the z axis), carried by an affine placement. Default: no surface (every face is flat).
 /// Value type.
 class SmoothSurface {

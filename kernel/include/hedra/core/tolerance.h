@@ -20,24 +20,25 @@ constexpr double kRoundingPlanarity = 64 * kEpsilon;
 /// in double (1e300 would overflow), so bodies beyond this are rejected as invalid input.
 constexpr double kMaxAbsCoordinate = 1e75;
 
-/// Default relative tolerance for the course's translate-and-rotate convexity test, which
-/// runs in floating point (it is the reference formulation, not the exact one):
-/// |z| <= kRotationConvexityZero * scale counts as zero.
+/// Default relative tolerance for the course's translate-and-rotate convexity test
+/// (docs/algorithms.md §5.1), which runs in floating point (it is the reference formulation, not
+/// the exact one): |z| <= kRotationConvexityZero * scale counts as zero.
 constexpr double kRotationConvexityZero = 1e-12;
 
-/// Default precision ε of midpoint subdivision clipping (algorithms.md §3), relative: the CLI
-/// uses ε = kMidpointEpsilon · scale (the clipper's Body::scale()). Bisection stops when the
-/// bracket around an end is at most ε long: about 30 bisections per end on data of unit size,
-/// far above the rounding of the midpoints themselves (~1e-16 · scale).
+/// Default precision ε of midpoint subdivision clipping (docs/algorithms.md §3.4), relative: the
+/// CLI uses ε = kMidpointEpsilon · scale (the clipper's Body::scale()). Bisection stops when the
+/// bracket around an end is at most ε long: about 30 bisections per end on data of unit size, far
+/// above the rounding of the midpoints themselves (~1e-16 · scale).
 constexpr double kMidpointEpsilon = 1e-9;
 
-/// Margin of the culling boxes of hidden-line removal (kernel/roberts), relative to the size
-/// of the picture (or of the depth range): projections are rounded constructions, and a pair
-/// is skipped only when its boxes are apart by more than this, far above their rounding
-/// (~1e-15 relative). It never changes a result, only which pairs are tested.
+/// Margin of the culling boxes of hidden-line removal (hedra/visibility/roberts.h), relative to the
+/// size of the picture (or of the depth range): projections are rounded constructions, and a pair
+/// is skipped only when its boxes are apart by more than this, far above their rounding (~1e-15
+/// relative). It never changes a result, only which pairs are tested.
 constexpr double kCullingMargin = 1e-9;
 
-/// Joining the boundary pieces of a union of shadow polygons into rings (kernel/polygon_union):
+/// Joining the boundary pieces of a union of shadow polygons into rings
+/// (hedra/visibility/polygon_union.h):
 /// where three or more edges cross at one exact point, the rounded crossings of different
 /// pairs of edges may differ by a few ulps, so an end with no start at its exact point is
 /// joined to the nearest free start within kChainJoinTolerance × |coordinates|. Only the
@@ -45,14 +46,14 @@ constexpr double kCullingMargin = 1e-9;
 /// gives the rings.
 constexpr double kChainJoinTolerance = 1e-12;
 
-/// Shadow rays of the raster renderer (render/ray_shadows): hits closer to the probe point than
-/// kShadowRayOffset × the scene's bounding-box diagonal are ignored. The probe point is a
-/// rounded construction on its face (a few ulps off the plane), and a ray leaving a facade's
-/// foot could otherwise meet the ground it stands on at t ≈ 1e-16; the probe's own face is
-/// skipped outright. Occluders nearer than this (1e-9 of the scene) are not seen.
+/// Shadow rays of the raster renderer (hedra/render/ray_shadows.h): hits closer to the probe point
+/// than kShadowRayOffset × the scene's bounding-box diagonal are ignored. The probe point is a
+/// rounded construction on its face (a few ulps off the plane), and a ray leaving a facade's foot
+/// could otherwise meet the ground it stands on at t ≈ 1e-16; the probe's own face is skipped
+/// outright. Occluders nearer than this (1e-9 of the scene) are not seen.
 constexpr double kShadowRayOffset = 1e-9;
 
-/// Near clipping plane of a perspective raster view (render/raster_view), relative to the
+/// Near clipping plane of a perspective raster view (hedra/render/raster_view.h), relative to the
 /// distance from the eye to the farthest corner of the scene's box: geometry nearer to the
 /// eye than that is cut away. Depth keys are −1/w, so it only bounds them; it is far below
 /// anything a picture can show.

@@ -1,4 +1,4 @@
-// Homogeneous 4×4 transformations in the course's row-vector convention.
+// Homogeneous 4×4 transformations in the course's row-vector convention (docs/algorithms.md §2).
 //
 // Convention. The course writes points as rows (x, y, z, 1) multiplied on the right:
 //   (x', y', z', w') = (x, y, z, 1) · M.
@@ -8,7 +8,7 @@
 // so a course matrix is never transposed when stored, only when used with column vectors.
 // Composition follows the row convention: (A * B) applies A first, then B
 // (p · A · B). A plane is a column (a, b, c, d)ᵀ with p · V = value; it transforms as
-// V' = M⁻¹ · V, and a body matrix as [VT] = [T]⁻¹ · [V] (algorithms.md §2), so that
+// V' = M⁻¹ · V, and a body matrix as [VT] = [T]⁻¹ · [V] (docs/algorithms.md §2), so that
 // p' · V' = p · V: a transformed interior point stays positive.
 #pragma once
 
@@ -30,7 +30,7 @@ class Transform {
   explicit Transform(const Mat4& row_convention_matrix) : m_(row_convention_matrix) {}
 
   // Builders. Angles in degrees, counter-clockwise when looking from the positive axis
-  // towards the origin (x' = x cosθ − y sinθ for OZ, as in algorithms.md §2).
+  // towards the origin (x' = x cosθ − y sinθ for OZ, as in docs/algorithms.md §2).
   static Transform identity() { return Transform(); }
   static Transform translation(const Vec3& d);
   /// Scaling by (kx, ky, kz) about `centre`: x' = x·kx + (1 − kx)·xm. Negative factors

@@ -1,4 +1,4 @@
-// Exact convex decomposition by plane splitting (algorithms.md §5).
+// Exact convex decomposition by plane splitting (docs/algorithms.md §5.3).
 #pragma once
 
 #include <functional>

@@ -1,4 +1,4 @@
-// Convexity test (algorithms.md §5): is a body convex with respect to each of its faces?
+// Convexity test (docs/algorithms.md §5.1): is a body convex with respect to each of its faces?
 #pragma once
 
 #include <vector>

@@ -26,7 +26,7 @@ struct Camera {
   int width = 800;
   int height = 600;
 
-  /// The course's special case: parallel view from +∞ on z (algorithms.md §6, stage 1).
+  /// The course's special case: parallel view from +∞ on z (docs/algorithms.md §6.1).
   static Camera course_default() { return Camera(); }
   static Camera parallel(const Vec3& direction, const Vec3& up = Vec3(0, 0, 1));
   static Camera perspective(const Vec3& eye, const Vec3& target, double fov_deg,

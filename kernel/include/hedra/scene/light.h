@@ -28,7 +28,7 @@ struct Light {
   static Light sun(double latitude, double longitude, const UtcTime& time, double intensity = 1);
 
   bool at_infinity() const { return type == Type::Directional || type == Type::Sun; }
-  /// Homogeneous light vector L of the course (algorithms.md §7): a face with body-matrix
+  /// Homogeneous light vector L of the course (docs/algorithms.md §7.1): a face with body-matrix
   /// column V faces away from the light (self-shadow) when L·V < 0, grazes it when L·V = 0.
   /// At infinity L = (direction, 0); at a point L = (−position, −1) (as Camera::viewer_vector).
   Vec4 homogeneous() const;

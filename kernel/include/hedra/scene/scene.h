@@ -11,7 +11,7 @@
 
 namespace hedra {
 
-/// Phong material (algorithms.md §8): colour per channel, ambient, diffuse and specular
+/// Phong material (docs/algorithms.md §8): colour per channel, ambient, diffuse and specular
 /// coefficients and the specular exponent.
 struct Material {
   Vec3 color = Vec3(0.8, 0.8, 0.8);
@@ -30,7 +30,7 @@ struct SceneBody {
   /// For curved primitives: how the tessellation was chosen ("chordal tolerance 0.01").
   std::string lod_note;
   /// For curved primitives: the analytic surface, whose normals smooth shading uses
-  /// (render/raster.h). None for every other body: all faces shade flat.
+  /// (hedra/render/raster.h). None for every other body: all faces shade flat.
   SmoothSurface surface;
 
   SceneBody& with_material(const Material& m) { material = m; return *this; }

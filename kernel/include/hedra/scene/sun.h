@@ -30,7 +30,7 @@ struct SunPosition {
 
 /// The NOAA solar position algorithm (the NOAA Global Monitoring Laboratory's solar
 /// calculator spreadsheet, after Meeus, "Astronomical Algorithms"), with NOAA's refraction
-/// correction. Valid for 1901–2099; tests/sun_test.cpp checks it against NREL's SPA reference
+/// correction. Valid for 1901–2099; tests/scene/sun_test.cpp checks it against NREL's SPA reference
 /// example (Reda & Andreas 2004) to 0.02° and against the solstice/equinox declinations.
 /// latitude in [−90, 90] (north positive), longitude in [−180, 180] (east positive).
 /// \throw InvalidInput for latitudes/longitudes out of range or non-finite.

@@ -1,6 +1,6 @@
 // Occlusion volumes: the region a convex piece hides from a viewpoint (the eye or a light).
-// One clipping core serves both hidden lines (kernel/roberts) and cast shadows
-// (kernel/shadows): design.md, "Architecture".
+// One clipping core serves both hidden lines (hedra/visibility/roberts.h) and cast shadows
+// (hedra/visibility/shadows.h): docs/design.md, "Data flow"; docs/algorithms.md §6.4.
 #pragma once
 
 #include <optional>

@@ -1,18 +1,19 @@
-// Roberts hidden-line removal (algorithms.md §6): the visible parts of the edges of a scene of
+// Roberts hidden-line removal (docs/algorithms.md §6): the visible parts of the edges of a scene of
 // solids, with the junction lines where bodies interpenetrate, seen in parallel or in
 // perspective. Exact: every decision (facing, hidden or not, which plane ends a hidden part,
 // where a junction line starts) is an exact predicate on the input coordinates; only the end
 // points of the output segments are rounded (docs/hidden-lines.md).
 //
 // Stages, in the course's order:
-//  1. back faces: a face is Front, EdgeOn or Back by the exact sign of E·V (kernel/occlusion's
-//     facing()); an edge between two back faces of its body is hidden whole;
+//  1. back faces: a face is Front, EdgeOn or Back by the exact sign of E·V
+//     (hedra/visibility/occlusion.h's facing()); an edge between two back faces of its body is
+//     hidden whole;
 //  2. every other edge is clipped against the open occlusion volume of each convex piece whose
 //     picture-plane box its projection meets (a uniform grid over the picture plane finds
 //     them), or, as the reference, by the course's brute-force solution of the (t, a) system;
 //  3. junction lines (edges of A ∩ B lying on a face of A and a face of B, for different
 //     bodies A, B) are added and clipped like edges.
-// Non-convex bodies take part through their exact convex decomposition (kernel/decompose):
+// Non-convex bodies take part through their exact convex decomposition (hedra/decompose):
 // their own edges and faces are drawn, never the cuts; the pieces hide everything behind
 // them, including other parts of their own body.
 #pragma once

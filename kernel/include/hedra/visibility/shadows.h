@@ -1,15 +1,16 @@
-// Shadows (algorithms.md §7): self shadows, visible shadows and exact cast-shadow polygons for
+// Shadows (docs/algorithms.md §7): self shadows, visible shadows and exact cast-shadow polygons for
 // point lights, spot lights, directional lights and the sun, and sun studies over a day.
 //
-// Method (design.md, "Architecture"). A point X of a face is in the cast shadow of a light
+// Method (docs/design.md, "Data flow"). A point X of a face is in the cast shadow of a light
 // when the segment (a ray, for a light at infinity) from the light to X meets the interior of
 // another convex piece before X, that is when X lies strictly inside the piece's occlusion
-// volume as seen from the light (kernel/occlusion.h); the boundary of a volume is lit. The cast
-// shadow on a face is therefore the face polygon clipped against the occlusion volumes of every
-// other convex piece, united: each clip is exact in its decisions (kernel/predicates.h), the
-// union of the clipped convex pieces is computed in the face's plane with exact 2D decisions
-// (kernel/polygon_union.h). Non-convex bodies take part through their exact convex pieces
-// (kernel/decompose.h); convex bodies are never decomposed. A uniform grid over the light-space
+// volume as seen from the light (hedra/visibility/occlusion.h); the boundary of a volume is
+// lit. The cast shadow on a face is therefore the face polygon clipped against the occlusion
+// volumes of every other convex piece, united: each clip is exact in its decisions
+// (hedra/core/predicates.h), the union of the clipped convex pieces is computed in the face's
+// plane with exact 2D decisions (hedra/visibility/polygon_union.h). Non-convex bodies take part
+// through their exact convex pieces (hedra/decompose/decompose.h); convex bodies are never
+// decomposed. A uniform grid over the light-space
 // projections of the pieces (a bounding-cone test for lights at a finite distance) gives each
 // face only the casters whose shadow volumes can reach it.
 //

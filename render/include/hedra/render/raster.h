@@ -1,17 +1,17 @@
-// The shaded raster renderer: a scan-line z-buffer over square tiles (algorithms.md §9),
+// The shaded raster renderer: a scan-line z-buffer over square tiles (docs/algorithms.md §9),
 // lighting and flat, Gouraud or Phong shading (§8), and cast shadows by one of three
 // interchangeable methods (§7): exact shadow polygons drawn as surface detail of their faces,
 // a shadow z-buffer per light, or shadow rays through a BVH. docs/rendering.md has the
 // details, the conventions and the failure modes of each method.
 //
 // Pipeline. (1) Back faces are culled by the body matrix and the viewer vector (exact,
-// kernel/occlusion.h facing()). (2) Each remaining face's triangles are clipped to the view
-// volume in homogeneous raster coordinates — near plane included, so a body that straddles
-// the eye plane is cut there — and binned to tiles. (3) Per tile, in parallel: the z-buffer
-// keeps, per sample, the nearest triangle (depth is the face plane's exact affine depth key,
-// evaluated directly at each sample); exact shadow polygons mark the samples of their own
-// face; every sample is shaded at its world point; samples are averaged into pixels.
-// Output depends neither on the number of threads nor on the tiling.
+// hedra/visibility/occlusion.h facing()). (2) Each remaining face's triangles are clipped to the
+// view volume in homogeneous raster coordinates — near plane included, so a body that straddles the
+// eye plane is cut there — and binned to tiles. (3) Per tile, in parallel: the z-buffer keeps, per
+// sample, the nearest triangle (depth is the face plane's exact affine depth key, evaluated
+// directly at each sample); exact shadow polygons mark the samples of their own face; every sample
+// is shaded at its world point; samples are averaged into pixels. Output depends neither on the
+// number of threads nor on the tiling.
 #pragma once
 
 #include <array>
@@ -26,7 +26,7 @@ namespace hedra {
 
 enum class Shading { Flat, Gouraud, Phong };
 
-/// Distance attenuation of the light intensities I_l (algorithms.md §8).
+/// Distance attenuation of the light intensities I_l (docs/algorithms.md §8).
 struct Attenuation {
   enum class Model { None, Linear, Quadratic };
   Model model = Model::None;
@@ -60,8 +60,8 @@ struct ShadowSettings {
   std::string to_string() const;
 };
 
-/// Exact shadow polygons of one light on one face, as surface detail: closed loops in 3D on
-/// the face's plane whose even–odd interior is the shadowed part (kernel/shadows.h gives
+/// Exact shadow polygons of one light on one face, as surface detail: closed loops in 3D on the
+/// face's plane whose even–odd interior is the shadowed part (hedra/visibility/shadows.h gives
 /// them; tests may give their own). `body` indexes Scene::bodies().
 struct SurfaceShadow {
   int body = 0, face = 0;
@@ -70,11 +70,16 @@ struct SurfaceShadow {
 /// Per light (in the order of Scene::lights), its surface shadows.
 using SurfaceShadows = std::vector<std::vector<SurfaceShadow>>;
 
+/// Most pixels of one image (8192²): bounds the image buffers (3 bytes per pixel) whatever
+/// the scene file or the options ask for.
+constexpr long long kMaxImagePixels = 1LL << 26;
+
 struct RenderOptions {
   /// Image size; 0 takes the scene camera's (the scene file's "image").
   int width = 0, height = 0;
   Shading shading = Shading::Phong;
-  ShadowSettings shadows;
+  /// Exact shadow polygons by default, as `hedra render`.
+  ShadowSettings shadows{ShadowSettings::Method::Exact};
   /// Samples per pixel: 1, 4 (2 × 2) or 16 (4 × 4), averaged (supersampling).
   int aa = 1;
   /// Ambient intensity I_a (white).
@@ -84,7 +89,7 @@ struct RenderOptions {
   int threads = 0;
   /// Tile side in pixels (affects speed only, never the picture).
   int tile_size = 32;
-  /// Exact method: the shadow polygons to draw. Null: computed with kernel/shadows.h.
+  /// Exact method: the shadow polygons to draw. Null: computed with hedra/visibility/shadows.h.
   const SurfaceShadows* exact_polygons = nullptr;
 };
 
@@ -123,14 +128,16 @@ struct RenderStats {
 };
 
 /// Renders the visible bodies of the scene with its camera and lights.
-/// \throw InvalidInput for bad options (aa not 1/4/16, sizes out of 1…65536, more than 32
+/// \throw InvalidInput for bad options (aa not 1/4/16, sizes out of 1…65536 or more than
+///   kMaxImagePixels pixels, more than 32
 ///   lights with shadows on) or a bad camera. Cost O(faces + pixels·aa·lights) plus the
 ///   shadow method's (rays: O(log faces) per probe).
 Image render(const Scene& scene, const RenderOptions& options, SampleRecord* record = nullptr,
              RenderStats* stats = nullptr);
 
-/// The exact shadow polygons of every light of the scene from kernel/shadows.h, in the
-/// renderer's form. \throw InvalidInput when kernel/shadows.h is not part of this build.
+/// The exact shadow polygons of every light of the scene from hedra/visibility/shadows.h, in the
+/// renderer's form. \throw InvalidInput when hedra/visibility/shadows.h is not part of this
+/// build.
 SurfaceShadows exact_shadow_polygons(const Scene& scene);
 
 /// The camera view render() uses for the scene on a width × height image (the parallel view
@@ -142,7 +149,7 @@ RasterView scene_view(const Scene& scene, int width, int height);
 void draw_segments(Image& image, const std::vector<std::array<Eigen::Vector2d, 2>>& segments,
                    const Vec3& colour, double width = 1.0);
 
-/// The hidden-line overlay: the visible edges and junction lines of kernel/roberts.h's
+/// The hidden-line overlay: the visible edges and junction lines of hedra/visibility/roberts.h's
 /// hidden_lines(scene), projected with scene_view and drawn on an image of the scene.
 /// \throw InvalidInput from hidden_lines (e.g. a perspective eye inside a body).
 void draw_hidden_lines(Image& image, const Scene& scene, const Vec3& colour = Vec3(0.08, 0.08, 0.1),

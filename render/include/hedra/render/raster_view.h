@@ -3,7 +3,7 @@
 // [i, i + 1) × [j, j + 1), its centre is (i + ½, j + ½).
 //
 // Depth. Every view has a depth key k, smaller = nearer, that is an affine function of
-// (sx, sy) over any plane, so the z-buffer interpolates it exactly (algorithms.md §9,
+// (sx, sy) over any plane, so the z-buffer interpolates it exactly (docs/algorithms.md §9,
 // Δz = −A/C along a scan line):
 //  - parallel: k = distance along the view direction from a reference point;
 //  - perspective: k = −1/w with w the distance along the view axis from the eye (the depth

@@ -1,5 +1,5 @@
-// Shadow probes (algorithms.md §7, ray tracing): from a visible point, a ray towards the light;
-// any face in between means shadow. A bounding-volume hierarchy over the scene's triangles
+// Shadow probes (docs/algorithms.md §7.5, ray tracing): from a visible point, a ray towards the
+// light; any face in between means shadow. A bounding-volume hierarchy over the scene's triangles
 // (binned surface-area heuristic) keeps each probe O(log triangles).
 #pragma once
 

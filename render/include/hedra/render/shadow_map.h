@@ -1,9 +1,9 @@
-// The shadow z-buffer (algorithms.md §7, the course's two-pass algorithm): pass 1 renders the
-// depth of the scene as the light sees it; pass 2 (the renderer) takes each visible point into
-// the light's view and compares its depth with the stored one. Resolution and bias are the
-// accuracy knobs; their failure modes are the method's own: acne (self-shadowing stripes
-// when the bias is too small for the surface's slope), light leaking and detached shadows
-// when it is too large, blocky edges (aliasing) at low resolution.
+// The shadow z-buffer (docs/algorithms.md §7.5, the course's two-pass algorithm): pass 1 renders
+// the depth of the scene as the light sees it; pass 2 (the renderer) takes each visible point into
+// the light's view and compares its depth with the stored one. Resolution and bias are the accuracy
+// knobs; their failure modes are the method's own: acne (self-shadowing stripes when the bias is
+// too small for the surface's slope), light leaking and detached shadows when it is too large,
+// blocky edges (aliasing) at low resolution.
 #pragma once
 
 #include <vector>

@@ -1,5 +1,6 @@
-// The hidden-line drawing as SVG (kernel/roberts): visible lines solid, hidden lines dashed on
-// request, junction lines in their own class; the picture fitted to the image with a margin.
+// The hidden-line drawing as SVG (hedra/visibility/roberts.h): visible lines solid, hidden lines
+// dashed on request, junction lines in their own class; the picture fitted to the image with a
+// margin.
 #pragma once
 
 #include <string>

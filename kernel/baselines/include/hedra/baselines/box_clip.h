@@ -1,4 +1,4 @@
-// The course's box clippers in 3D (algorithms.md §3): Cohen–Sutherland and Liang–Barsky.
+// The course's box clippers in 3D (docs/algorithms.md §3.3): Cohen–Sutherland and Liang–Barsky.
 // Both are floating-point methods (the exact one is Cyrus–Beck on box_clipper(box)); they are
 // kept as the course states them and checked against Cyrus–Beck in tests.
 #pragma once

@@ -8,7 +8,7 @@
 
 namespace hedra {
 
-/// The course's algorithm exactly as written (algorithms.md §4, steps 3–6), in plain double on
+/// The course's algorithm exactly as written (docs/algorithms.md §4, steps 3–6), in plain double on
 /// body-matrix columns: Wn = N·P1 + d, Dn = N·(P2 − P1), comparisons with 0 in floating point.
 /// The "plain double" variant of the speed–accuracy benchmark and a reference in tests;
 /// its decisions are wrong near degenerate configurations (see docs/clipping.md).

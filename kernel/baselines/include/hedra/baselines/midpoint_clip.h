@@ -1,5 +1,5 @@
-// Midpoint subdivision clipping with precision ε (algorithms.md §3), against the course's box
-// and frustum through their outcodes, and against any convex clipper through exact sides.
+// Midpoint subdivision clipping with precision ε (docs/algorithms.md §3.4), against the course's
+// box and frustum through their outcodes, and against any convex clipper through exact sides.
 //
 // The course's procedure: trivially visible → keep; trivially invisible → drop; otherwise, for
 // each end in turn, if it is visible it is an end of the result, else bisect

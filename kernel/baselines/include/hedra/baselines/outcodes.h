@@ -1,4 +1,4 @@
-// Outcodes of the course's two basic clippers (algorithms.md §3): the rectangular box
+// Outcodes of the course's two basic clippers (docs/algorithms.md §3.1–3.2): the rectangular box
 // (6 bits) and the truncated viewing pyramid, with the course's fix for points beyond the
 // centre of projection.
 #pragma once

@@ -1,0 +1,34 @@
+// The JSON reports of `hedra hlr --json` and `hedra shadows --json`, shared by the command and
+// the Python module (python/), so both print the same text for the same result.
+#pragma once
+
+#include <string>
+
+#include "hedra/scene/scene.h"
+#include "hedra/visibility/roberts.h"
+#include "hedra/visibility/shadows.h"
+
+namespace hedra::io {
+
+/// {"hidden": […], "junction": […], "ms": T, "visible": […]}: segments [x1,y1,z1,x2,y2,z2] in
+/// world coordinates (junction lines only under "junction"), one line, no newline. Doubles
+/// print with round-trip precision. Cost O(segments).
+std::string hidden_lines_json(const HlrResult& result, double ms);
+
+/// The report of `hedra shadows --json` (one line, no newline): per light its description and
+/// every face's shadow (polygons as rings, hole indices), the k-of-n counts, and, when `study`
+/// is given, the "sun_study" object of sun_study_json. `scene_name` fills "scene";
+/// `visible_parts` adds the visible shadow polygons (ShadowOptions::visible_parts).
+/// \pre result computed for `scene`; study (if any) computed for `scene` with `study_options`.
+/// Cost O(output size).
+std::string shadows_json(const Scene& scene, const std::string& scene_name,
+                         const ShadowResult& result, bool visible_parts, double ms,
+                         const SunStudyOptions* study_options = nullptr,
+                         const SunStudy* study = nullptr);
+
+/// The "sun_study" object of shadows_json alone: place, times, step, per step the sun and the
+/// lit fraction of every face, hours of sun per face, the optional grid. Cost O(output size).
+std::string sun_study_json(const Scene& scene, const SunStudyOptions& options,
+                           const SunStudy& study);
+
+}  // namespace hedra::io

@@ -1,0 +1,114 @@
+// libFuzzer target: a small scene through what every command computes: info (convexity,
+// volume, area), decompose, clip, hlr, shadows, render, and convert's round trips (hedra must
+// read back every file it writes).
+#include <cstdio>
+#include <cstdlib>
+
+#include "fuzz_common.h"
+#include "hedra/clip/convex_clipper.h"
+#include "hedra/clip/cyrus_beck.h"
+#include "hedra/decompose/decompose.h"
+#include "hedra/io/mesh_io.h"
+#include "hedra/io/scene_json.h"
+#include "hedra/mesh/convexity.h"
+#include "hedra/render/raster.h"
+#include "hedra/visibility/roberts.h"
+#include "hedra/visibility/shadows.h"
+#include "off.h"
+
+namespace {
+
+using namespace hedra;
+
+// Small scenes only: the point is every code path, not large inputs (the readers' targets and
+// the resource guards cover size).
+constexpr int kMaxBodies = 6, kMaxFaces = 200;
+
+// A file hedra wrote that hedra rejects is a finding.
+[[noreturn]] void rejected_own_output(const char* what, const std::exception& e) {
+  std::fprintf(stderr, "hedra rejects its own %s: %s\n", what, e.what());
+  std::abort();
+}
+
+void commands(const Scene& scene) {
+  int faces = 0;
+  for (const SceneBody& b : scene.bodies()) faces += b.body.face_count();
+  if (scene.bodies().size() > kMaxBodies || faces > kMaxFaces) return;
+
+  // convert: scene JSON and, per body, OFF read back.
+  try {
+    io::parse_scene("fuzz/again.json", io::format_scene(scene));
+  } catch (const InvalidInput& e) {
+    rejected_own_output("scene file", e);
+  }
+  for (const SceneBody& b : scene.bodies()) {
+    try {
+      bodies_from_soup(io::parse_off("again.off", io::format_bodies({b.body}, io::MeshFormat::Off)));
+    } catch (const InvalidInput& e) {
+      rejected_own_output("OFF file", e);
+    }
+  }
+  // info, decompose, clip.
+  for (const SceneBody* b : scene.visible_bodies()) {
+    const ConvexityReport c = convexity(b->body);
+    (void)b->body.volume();
+    (void)b->body.area();
+    std::vector<ConvexClipper> pieces;
+    if (c.convex) {
+      pieces.emplace_back(b->body);
+    } else {
+      fuzz::rejecting_cleanly([&] {
+        DecomposeOptions options;
+        options.threads = 1;
+        for (const Body& p : decompose(b->body, options).pieces) pieces.emplace_back(p);
+      });
+    }
+    const Eigen::AlignedBox3d box = b->body.bbox();
+    const Vec3 lo = box.min() - Vec3::Constant(1), hi = box.max() + Vec3::Constant(1);
+    const Vec3 centre = box.center();
+    const std::pair<Vec3, Vec3> segments[] = {
+        {lo, hi}, {Vec3(lo.x(), hi.y(), lo.z()), Vec3(hi.x(), lo.y(), hi.z())}, {centre, centre}};
+    for (const auto& [p, q] : segments) {
+      if (!pieces.empty()) {
+        clip_segment(std::span<const ConvexClipper>(pieces), p, q);
+        clip_segment_outside(std::span<const ConvexClipper>(pieces), p, q);
+      }
+    }
+  }
+  // hlr, shadows, render: a scene-level problem (the eye inside a body) is an input error.
+  fuzz::rejecting_cleanly([&] {
+    HlrOptions options;
+    options.hidden = true;
+    hidden_lines(scene, options);
+  });
+  if (!scene.lights.empty())
+    fuzz::rejecting_cleanly([&] {
+      ShadowOptions options;
+      options.threads = 1;
+      options.visible_parts = true;
+      compute_shadows(scene, options);
+    });
+  fuzz::rejecting_cleanly([&] {
+    RenderOptions options;
+    options.width = 24;
+    options.height = 18;
+    options.threads = 1;
+    options.shadows.method = ShadowSettings::Method::Exact;
+    render(scene, options);
+  });
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+  hedra::fuzz::init();
+  return 0;
+}
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  std::optional<hedra::Scene> scene;
+  hedra::fuzz::rejecting_cleanly(
+      [&] { scene = hedra::io::parse_scene("fuzz/scene.json", hedra::fuzz::bytes_of(data, size)); });
+  if (scene) commands(*scene);
+  return 0;
+}
