@@ -91,14 +91,21 @@ int main(int argc, char** argv) {
       return fail(std::string("unknown command '") + argv[1] + "' (expected one of: " + names + ")",
                   kExitUsage);
   }
+
   // One modeling tolerance for every command that reads bodies (--coplanar-tol and
   // --planarity-tol are its old names).
-  for (CLI::App* sub : {info, convert, decompose, clip, hlr, render, shadows})
-    sub->add_option("--tolerance,--coplanar-tol,--planarity-tol", tolerance,
+  for (CLI::App* sub : {info, convert, decompose, clip, hlr, render, shadows}) {
+    sub->add_option("--tolerance", tolerance,
                     "merge nearly coplanar neighbouring faces of meshes read into planar faces, "
                     "moving no vertex by more than D (default 0: exact)")
         ->check(hedra::cli::finite_number(false))
         ->option_text("D");
+    // Separate options, so that a usage error names the one given.
+    for (const char* alias : {"--coplanar-tol", "--planarity-tol"})
+      sub->add_option(alias, tolerance, "the same as --tolerance")
+          ->check(hedra::cli::finite_number(false))
+          ->option_text("D");
+  }
 
   try {
     app.parse(argc, argv);

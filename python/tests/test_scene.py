@@ -280,7 +280,7 @@ def test_long_calls_release_the_gil(city):
 
     def render():
         span["start"] = time.perf_counter()
-        hedra.render(city, width=640, height=480, aa=4, threads=1)
+        hedra.render(city, width=1600, height=1200, aa=16, threads=1)  # about 1 s: long enough anywhere
         span["end"] = time.perf_counter()
 
     ticks = []
