@@ -144,8 +144,8 @@ def test_a_worker_that_dies_mid_study_changes_nothing(city, reference, tmp_path)
 
 # ---- The command line: hedra shadows --workers / --scheduler ----
 
-# ctest passes the command it built (HEDRA_BIN); by hand, build/cli/hedra.
-CLI = os.environ.get("HEDRA_BIN", str(ROOT / "build" / "cli" / "hedra"))
+# ctest passes the command it built (HEDRA_BIN); by hand, build/hedra.
+CLI = os.environ.get("HEDRA_BIN", str(ROOT / "build" / "hedra"))
 
 
 def shadows(*args, env=None):
