@@ -4,7 +4,7 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
-#include "hedra/mesh/triangulate.h"
+#include "hedra/core/triangulate.h"
 #include "testing/decomposition_suite.h"
 
 #include <map>

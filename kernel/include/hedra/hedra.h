@@ -20,7 +20,7 @@
 #include "hedra/mesh/boolean.h"
 #include "hedra/mesh/convexity.h"
 #include "hedra/mesh/merge_coplanar.h"
-#include "hedra/mesh/triangulate.h"
+#include "hedra/core/triangulate.h"
 
 // decompose
 #include "hedra/decompose/decompose.h"

@@ -11,7 +11,7 @@
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
 #include "hedra/core/tolerance.h"
-#include "hedra/mesh/triangulate.h"
+#include "hedra/core/triangulate.h"
 
 namespace hedra {
 
