@@ -317,7 +317,7 @@ TEST(IsConvex, FloatRoundedTriangleSphereListsTheSameFacesAsTheDefinition) {
 }
 
 TEST(IsConvex, FineSphereIsConvex) {
-  Body s = sphere({1, 2, 3}, 2, 2e-5);
+  Body s = sphere({1, 2, 3}, 2, 2e-5, 1000000);  // 494 018 faces: above the default budget
   ASSERT_GT(s.face_count(), 20000);
   // Settled by the certificate (rounded quadrilaterals split), not by the O(F·V) fallback.
   EXPECT_EQ(certify_convexity(s), ConvexityCertificate::Convex);
