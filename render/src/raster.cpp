@@ -59,7 +59,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
   }
 }
 
-// ---- Lights and the lighting model (algorithms.md §8) ----
+// ---- Lights and the lighting model (docs/algorithms.md §8) ----
 
 // x^n: by repeated squaring for the usual integer exponents (a few ulps from std::pow, and
 // several times faster), std::pow otherwise.
