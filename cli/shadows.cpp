@@ -21,20 +21,6 @@
 namespace hedra::cli {
 namespace {
 
-const char* type_name(Light::Type t) {
-  switch (t) {
-    case Light::Type::Directional:
-      return "directional";
-    case Light::Type::Point:
-      return "point";
-    case Light::Type::Spot:
-      return "spot";
-    case Light::Type::Sun:
-      return "sun";
-  }
-  return "directional";
-}
-
 std::string light_label(const Light& l) {
   char buf[200];
   switch (l.type) {
@@ -51,7 +37,8 @@ std::string light_label(const Light& l) {
       break;
     case Light::Type::Point:
     case Light::Type::Spot:
-      std::snprintf(buf, sizeof buf, "%s at (%.4g, %.4g, %.4g)", type_name(l.type), l.position.x(),
+      std::snprintf(buf, sizeof buf, "%s at (%.4g, %.4g, %.4g)", io::light_type_name(l.type),
+                    l.position.x(),
                     l.position.y(), l.position.z());
       break;
   }

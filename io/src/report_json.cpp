@@ -42,22 +42,8 @@ json hole_indices(const std::vector<ShadowPolygon>& polys) {
   return out;
 }
 
-const char* type_name(Light::Type t) {
-  switch (t) {
-    case Light::Type::Directional:
-      return "directional";
-    case Light::Type::Point:
-      return "point";
-    case Light::Type::Spot:
-      return "spot";
-    case Light::Type::Sun:
-      return "sun";
-  }
-  return "directional";
-}
-
 json light_json(const Light& l) {
-  json j{{"type", type_name(l.type)}, {"intensity", l.intensity}, {"color", vec(l.color)}};
+  json j{{"type", light_type_name(l.type)}, {"intensity", l.intensity}, {"color", vec(l.color)}};
   if (l.type != Light::Type::Point) j["direction"] = vec(l.direction);
   if (l.type == Light::Type::Point || l.type == Light::Type::Spot) j["position"] = vec(l.position);
   if (l.type == Light::Type::Spot) {
@@ -119,6 +105,20 @@ json sun_study_object(const Scene& scene, const SunStudyOptions& options, const 
 }
 
 }  // namespace
+
+const char* light_type_name(Light::Type t) {
+  switch (t) {
+    case Light::Type::Directional:
+      return "directional";
+    case Light::Type::Point:
+      return "point";
+    case Light::Type::Spot:
+      return "spot";
+    case Light::Type::Sun:
+      return "sun";
+  }
+  return "directional";
+}
 
 std::string hidden_lines_json(const HlrResult& result, double ms) {
   json j;

@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "hedra/core/error.h"
+#include "mesh/union_find.h"
 
 namespace hedra {
 namespace {
@@ -50,19 +51,7 @@ struct OriginVisitor : PMP::Corefinement::Default_visitor<Mesh> {
   }
 };
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
+using internal::UnionFind;
 
 // Exact signed area of a loop, twice, projected along coordinate axis `axis` (right-handed
 // about that axis).

@@ -11,6 +11,7 @@
 #include "hedra/core/face_geometry.h"
 #include "hedra/core/predicates.h"
 #include "hedra/core/tolerance.h"
+#include "mesh/union_find.h"
 
 namespace hedra {
 namespace {
@@ -20,19 +21,7 @@ std::uint64_t key(int a, int b) {
          static_cast<std::uint32_t>(b);
 }
 
-struct UnionFind {
-  std::vector<int> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
-  int find(int x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(int a, int b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);  // smallest id is the root
-  }
-};
+using internal::UnionFind;
 
 // Whether a face with these loops passes Body's planarity check with room to spare: every
 // vertex within half of kRoundingPlanarity times the loops' own scale (smaller than the body's)

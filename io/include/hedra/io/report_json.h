@@ -16,6 +16,9 @@ namespace hedra::io {
 /// print with round-trip precision. Cost O(segments).
 std::string hidden_lines_json(const HlrResult& result, double ms);
 
+/// The name of a light type in reports: "directional", "point", "spot" or "sun".
+const char* light_type_name(Light::Type type);
+
 /// The report of `hedra shadows --json` (one line, no newline): per light its description and
 /// every face's shadow (polygons as rings, hole indices), the k-of-n counts, and, when `study`
 /// is given, the "sun_study" object of sun_study_json. `scene_name` fills "scene";
