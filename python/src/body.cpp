@@ -229,7 +229,7 @@ py::array_t<double> clip_segments(const py::handle& bodies_value, const py::hand
     // As the command: convex bodies are one piece each, non-convex ones their exact pieces.
     std::vector<ConvexClipper> pieces;
     for (const Body& body : bodies) {
-      if (convexity(body).convex) {
+      if (is_convex(body)) {
         pieces.emplace_back(body);
         continue;
       }
@@ -300,7 +300,7 @@ void bind_body(py::module_& m) {
           "Body from a triangle mesh: coplanar neighbours merged into polygonal faces.")
       .def_property_readonly("volume", [](const PyBody& b) { return b.body.volume(); })
       .def_property_readonly("area", [](const PyBody& b) { return b.body.area(); })
-      .def_property_readonly("is_convex", [](const PyBody& b) { return convexity(b.body).convex; },
+      .def_property_readonly("is_convex", [](const PyBody& b) { return is_convex(b.body); },
                              "Exact convexity test.")
       .def_property_readonly("nonconvex_faces",
                              [](const PyBody& b) { return convexity(b.body).nonconvex_faces; })

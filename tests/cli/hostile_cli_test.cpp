@@ -16,6 +16,7 @@
 
 #include "testing/bad_files.h"
 #include "testing/cli_run.h"
+#include "testing/temp_files.h"
 
 namespace {
 
@@ -24,17 +25,8 @@ using Result = hedra::testing::CliResult;
 
 Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hedra_hostile_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string write(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-  return path.string();
-}
+fs::path temp_dir(const std::string& name) { return hedra::testing::temp_dir("hostile_" + name); }
+using hedra::testing::write;
 
 std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 

@@ -15,6 +15,7 @@
 #include "hedra/io/atomic_file.h"
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/text_reader.h"
+#include "testing/temp_files.h"
 
 namespace hedra {
 namespace {
@@ -22,16 +23,9 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("hedra_hostile_io_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return hedra::testing::temp_dir("hostile_io_" + name);
 }
-
-std::string write(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary) << text;
-  return path.string();
-}
+using hedra::testing::write;
 
 std::string message_of(const std::function<void()>& f) {
   try {

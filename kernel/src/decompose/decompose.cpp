@@ -146,7 +146,7 @@ std::optional<Body> rounded_piece(const Piece& piece) {
     Body body = body_of(piece);
     // Rounding can also leave a face a few ulps reflex; consumers (clipping) need exact
     // convexity of the double polyhedron.
-    if (convexity(body).convex) return body;
+    if (is_convex(body)) return body;
   } catch (const InvalidInput&) {
   }
   std::vector<P3> coords;
@@ -214,7 +214,7 @@ std::optional<Body> rounded_piece(const Piece& piece) {
     }
     try {
       std::vector<Body> bodies = bodies_from_soup(soup, ids);
-      if (bodies.size() == 1 && convexity(bodies[0]).convex) return bodies[0];
+      if (bodies.size() == 1 && is_convex(bodies[0])) return bodies[0];
     } catch (const InvalidInput&) {
     }
     // The thinnest non-flat hull triangle (area over squared longest edge) loses the corner
