@@ -97,14 +97,7 @@ std::vector<Interval> complement(const std::vector<Interval>& inside, const Segm
   return out;
 }
 
-std::vector<Interval> intervals_of(const std::vector<ClipPart>& parts) {
-  std::vector<Interval> out;
-  for (const ClipPart& p : parts) out.push_back({p.start.t, p.end.t});
-  return out;
-}
-
-void append_part(std::string& text, const Segment& s, const Interval& part) {
-  const Vec3 a = point_at(s.p1, s.p2, part.t0), b = point_at(s.p1, s.p2, part.t1);
+void append_part(std::string& text, const Segment& s, const Vec3& a, const Vec3& b) {
   char buf[512];
   std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g %.17g %.17g %.17g %d\n", a.x(), a.y(), a.z(),
                 b.x(), b.y(), b.z(), s.line);
@@ -150,21 +143,29 @@ void run_clip(const ClipCommand& command, std::ostream& out) {
     clip_batch(pieces[0], batch, result);
     for (size_t i = 0; i < segments.size(); ++i) {
       if (!result.visible(i)) continue;
-      append_part(text, segments[i], {result.t_start[i], result.t_end[i]});
+      // End points from the exact crossings, rounded once (not from the rounded t).
+      const ClipPart part = result.part(i);
+      append_part(text, segments[i], end_point(pieces[0], part.start, segments[i].p1, segments[i].p2),
+                  end_point(pieces[0], part.end, segments[i].p1, segments[i].p2));
       ++count;
     }
   } else {
     for (const Segment& s : segments) {
-      std::vector<Interval> parts;
       if (midpoint) {
-        parts = midpoint_parts(pieces, s, eps);
+        std::vector<Interval> parts = midpoint_parts(pieces, s, eps);
         if (command.outside) parts = complement(parts, s);
+        for (const Interval& p : parts)
+          append_part(text, s, point_at(s.p1, s.p2, p.t0), point_at(s.p1, s.p2, p.t1));
+        count += parts.size();
       } else {
-        parts = intervals_of(command.outside ? clip_segment_outside(pieces, s.p1, s.p2)
-                                             : clip_segment(pieces, s.p1, s.p2));
+        const std::vector<ClipPart> parts = command.outside
+                                                ? clip_segment_outside(pieces, s.p1, s.p2)
+                                                : clip_segment(pieces, s.p1, s.p2);
+        for (const ClipPart& p : parts)
+          append_part(text, s, end_point(pieces, p.start, s.p1, s.p2),
+                      end_point(pieces, p.end, s.p1, s.p2));
+        count += parts.size();
       }
-      for (const Interval& p : parts) append_part(text, s, p);
-      count += parts.size();
     }
   }
   io::write_file_atomically(command.output_file, text);

@@ -235,9 +235,10 @@ py::array_t<double> clip_segments(const py::handle& bodies_value, const py::hand
       }
       for (const Body& piece : decompose(body).pieces) pieces.emplace_back(piece);
     }
-    auto emit = [&](size_t i, double t0, double t1) {
-      const Vec3 a = point_at(segments[i].first, segments[i].second, t0);
-      const Vec3 b = point_at(segments[i].first, segments[i].second, t1);
+    // End points as the command writes them: exact crossings rounded once (end_point).
+    auto emit = [&](size_t i, const ClipPart& part) {
+      const Vec3 a = end_point(pieces, part.start, segments[i].first, segments[i].second);
+      const Vec3 b = end_point(pieces, part.end, segments[i].first, segments[i].second);
       out.insert(out.end(), {a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), static_cast<double>(i)});
     };
     if (!outside && pieces.size() == 1) {
@@ -247,12 +248,12 @@ py::array_t<double> clip_segments(const py::handle& bodies_value, const py::hand
       BatchClipResult result;
       clip_batch(pieces[0], batch, result);
       for (size_t i = 0; i < segments.size(); ++i)
-        if (result.visible(i)) emit(i, result.t_start[i], result.t_end[i]);
+        if (result.visible(i)) emit(i, result.part(i));
     } else {
       for (size_t i = 0; i < segments.size(); ++i) {
         const auto parts = outside ? clip_segment_outside(pieces, segments[i].first, segments[i].second)
                                    : clip_segment(pieces, segments[i].first, segments[i].second);
-        for (const ClipPart& p : parts) emit(i, p.start.t, p.end.t);
+        for (const ClipPart& p : parts) emit(i, p);
       }
     }
   }

@@ -1,7 +1,14 @@
 #include "hedra/clip/cyrus_beck.h"
 
+#include <CGAL/Gmpq.h>
+#include <CGAL/Mpzf.h>
+
 #include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "hedra/core/error.h"
@@ -44,7 +51,73 @@ Bound bound_of(std::span<const ConvexClipper> pieces, const ClipEnd& end, const 
   return {{x.t, x.error, f}, end.plane};
 }
 
+using Q = CGAL::Mpzf;
+
+// f(p) exactly: the plane's defining form on exact products of doubles (as the predicates
+// evaluate it).
+Q exact_value(const ExactPlane& f, const Vec3& p) {
+  Q value(0);
+  if (f.by_points()) {
+    const Vec3 &a = f.points()[0], &b = f.points()[1], &c = f.points()[2];
+    const Q bax = Q(b.x()) - Q(a.x()), bay = Q(b.y()) - Q(a.y()), baz = Q(b.z()) - Q(a.z());
+    // Through a direction: c is the direction itself, not a point.
+    const Q cax = f.by_direction() ? Q(c.x()) : Q(c.x()) - Q(a.x());
+    const Q cay = f.by_direction() ? Q(c.y()) : Q(c.y()) - Q(a.y());
+    const Q caz = f.by_direction() ? Q(c.z()) : Q(c.z()) - Q(a.z());
+    const Q pax = Q(p.x()) - Q(a.x()), pay = Q(p.y()) - Q(a.y()), paz = Q(p.z()) - Q(a.z());
+    value = Q(0) - (bax * (cay * paz - caz * pay) - bay * (cax * paz - caz * pax) +
+                    baz * (cax * pay - cay * pax));
+  } else {
+    const Vec4& k = f.coefficients().coefficients;
+    value = Q(k[0]) * Q(p.x()) + Q(k[1]) * Q(p.y()) + Q(k[2]) * Q(p.z()) + Q(k[3]);
+  }
+  return f.negated() ? Q(0) - value : value;
+}
+
+// Whether c is num/den (den > 0) rounded to nearest, ties to even: num/den lies strictly
+// between the midpoints of c and its neighbours, or on one with c's last bit 0. Exact.
+bool rounds_to(const Q& num, const Q& den, double c) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double lo = std::nextafter(c, -inf), hi = std::nextafter(c, inf);
+  if (!std::isfinite(lo) || !std::isfinite(hi)) return false;
+  const Q two_num = Q(2) * num;
+  const CGAL::Sign below = CGAL::sign(two_num - (Q(lo) + Q(c)) * den);  // X − (lo + c)/2
+  const CGAL::Sign above = CGAL::sign(two_num - (Q(c) + Q(hi)) * den);  // X − (c + hi)/2
+  if (below == CGAL::NEGATIVE || above == CGAL::POSITIVE) return false;
+  if (below == CGAL::POSITIVE && above == CGAL::NEGATIVE) return true;
+  return (std::bit_cast<std::uint64_t>(c) & 1) == 0;  // a tie: c must be the even neighbour
+}
+
+// num/den (den > 0) rounded to nearest: the estimate when it is right, else the rational
+// quotient truncated toward zero (mpq_get_d) or its neighbour away from zero, one of which is
+// the nearest.
+double round_quotient(const Q& num, const Q& den, double estimate) {
+  if (std::isfinite(estimate) && rounds_to(num, den, estimate)) return estimate;
+  const double truncated = (CGAL::Gmpq(num) / CGAL::Gmpq(den)).to_double();
+  if (rounds_to(num, den, truncated)) return truncated;
+  const double inf = std::numeric_limits<double>::infinity();
+  return std::nextafter(truncated, CGAL::sign(num) == CGAL::NEGATIVE ? -inf : inf);
+}
+
 }  // namespace
+
+Vec3 crossing_point(const ExactPlane& f, const Vec3& p, const Vec3& q) {
+  Q fp = exact_value(f, p), fq = exact_value(f, q);
+  Q den = fp - fq;
+  HEDRA_ASSERT(CGAL::sign(den) != CGAL::ZERO, "crossing_point: the line does not cross the plane");
+  if (CGAL::sign(den) == CGAL::NEGATIVE) {  // keep den > 0
+    fp = Q(0) - fp;
+    fq = Q(0) - fq;
+    den = Q(0) - den;
+  }
+  // The estimate: P(t) with t = f(p)/(f(p) − f(q)) in double, right almost always.
+  const double w = f.value(p), e = f.value(q);
+  const double t = w / (w - e);
+  Vec3 x;
+  for (int i = 0; i < 3; ++i)
+    x[i] = round_quotient(fp * Q(q[i]) - fq * Q(p[i]), den, p[i] + (q[i] - p[i]) * t);
+  return x;
+}
 
 Crossing crossing(const ExactPlane& f, const Vec3& p1, const Vec3& p2) {
   return crossing_from_values(f.value(p1), f.value(p2), f.error_bound(p1.cwiseAbs().maxCoeff()),
@@ -222,6 +295,12 @@ std::vector<ClipPart> clip_segment_outside(std::span<const ConvexClipper> pieces
 std::vector<ClipPart> clip_segment_outside(const ConvexClipper& clipper, const Vec3& p1,
                                            const Vec3& p2) {
   return clip_segment_outside(std::span<const ConvexClipper>(&clipper, 1), p1, p2);
+}
+
+Vec3 end_point(std::span<const ConvexClipper> pieces, const ClipEnd& end, const Vec3& p1,
+               const Vec3& p2) {
+  if (end.plane < 0) return end.t == 0 ? p1 : (end.t == 1 ? p2 : point_at(p1, p2, end.t));
+  return crossing_point(*plane_of(pieces, end), p1, p2);
 }
 
 Vec3 point_at(const Vec3& p1, const Vec3& p2, double t) {

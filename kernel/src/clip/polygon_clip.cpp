@@ -23,7 +23,8 @@ struct Point {
   bool on;
 };
 
-Vec3 crossing_point(const ExactPlane& f, const Vec3& v, const Vec3& w) {
+// The crossing of edge vw with f at the rounded parameter (cheap; polygon vertices need no more).
+Vec3 rounded_crossing(const ExactPlane& f, const Vec3& v, const Vec3& w) {
   return point_at(v, w, crossing(f, v, w).t);
 }
 
@@ -60,7 +61,7 @@ std::vector<Point> single_ring(const Polygon3& poly, const std::vector<Sign>& si
   std::vector<Point> out;
   stage(
       poly.size(), side, [&](size_t i) { out.push_back({poly[i], side[i] == Sign::Zero}); },
-      [&](size_t i, size_t j) { out.push_back({crossing_point(f, poly[i], poly[j]), true}); });
+      [&](size_t i, size_t j) { out.push_back({rounded_crossing(f, poly[i], poly[j]), true}); });
   return out;
 }
 
@@ -139,7 +140,7 @@ std::vector<Polygon3> clip_polygon(const Polygon3& polygon, const ExactPlane& f)
     if (side[i] == Sign::Zero)
       c.points.push_back({polygon[i], true});
     else
-      c.points.push_back({crossing_point(f, polygon[i], polygon[j]), true});
+      c.points.push_back({rounded_crossing(f, polygon[i], polygon[j]), true});
     for (;;) {
       c.points.push_back({polygon[j], false});
       if (!in(j + 1)) break;
@@ -150,7 +151,7 @@ std::vector<Polygon3> clip_polygon(const Polygon3& polygon, const ExactPlane& f)
     if (side[k] == Sign::Zero)
       c.points.push_back({polygon[k], true});
     else
-      c.points.push_back({crossing_point(f, polygon[j], polygon[k]), true});
+      c.points.push_back({rounded_crossing(f, polygon[j], polygon[k]), true});
     chains.push_back(std::move(c));
   }
 

@@ -98,6 +98,27 @@ std::vector<ClipPart> clip_segment(std::span<const ConvexClipper> pieces, const 
 std::vector<ClipPart> clip_segment_outside(std::span<const ConvexClipper> pieces, const Vec3& p1,
                                            const Vec3& p2);
 
+/// The point X where the line through p and q crosses plane f, each coordinate the exact value
+/// X_i = (f(p)·q_i − f(q)·p_i) / (f(p) − f(q)) rounded to nearest (ties to even) once: never
+/// built from a rounded parameter, so the crossing of a segment far longer than its distance
+/// from the ends (−1e70 … 1e70 against a unit cube) is still the exact point rounded.
+/// \pre f(p) ≠ f(q) exactly. Cost O(1): exact products of doubles (CGAL::Mpzf); a rational
+/// division only when the double estimate is not the correctly rounded value.
+Vec3 crossing_point(const ExactPlane& f, const Vec3& p, const Vec3& q);
+
+/// The point of an end of a part of segment p1p2: P1 or P2 itself for an end of the segment,
+/// else the exact crossing of the segment with the end's plane rounded once per coordinate
+/// (crossing_point), not P(t) of the rounded t: so the returned part is the exact part
+/// rounded, however long the segment (−1e70 … 1e70 against the unit cube gives −1 … 1).
+/// Cost O(1), exact arithmetic for a crossing.
+Vec3 end_point(std::span<const ConvexClipper> pieces, const ClipEnd& end, const Vec3& p1,
+               const Vec3& p2);
+/// end_point for the parts of one convex clipper (piece 0).
+inline Vec3 end_point(const ConvexClipper& clipper, const ClipEnd& end, const Vec3& p1,
+                      const Vec3& p2) {
+  return end_point(std::span<const ConvexClipper>(&clipper, 1), end, p1, p2);
+}
+
 /// Exact order of two ends of parts of the same segment (pieces as in the parts):
 /// sign of a.t_exact − b.t_exact. Cost O(1).
 Sign compare_ends(std::span<const ConvexClipper> pieces, const ClipEnd& a, const ClipEnd& b,
@@ -136,7 +157,8 @@ std::optional<SegmentPart> clip_segment_open(const ConvexClipper& clipper, const
 /// In place. Cost O(k log k) comparisons.
 void merge_parts(std::vector<SegmentPart>& parts, const Vec3& p1, const Vec3& p2);
 
-/// P(t) = P1 + (P2 − P1)·t in double, exactly P1 at t = 0 and P2 at t = 1.
+/// P(t) = P1 + (P2 − P1)·t in double, exactly P1 at t = 0 and P2 at t = 1. For a part's end
+/// use end_point: a rounded t loses the point on long segments.
 Vec3 point_at(const Vec3& p1, const Vec3& p2, double t);
 
 
