@@ -244,16 +244,18 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   for (int f = 0; f < n; ++f) {
     const Face& face = faces[f];
     const std::string where = "face " + str(f);
-    Vec3 outward = newell_normal(vertices, face.loops);
-    double length = outward.norm();
+    const Vec3 outward = newell_normal(vertices, face.loops);
+    // stableNorm and the unit normal below: the squares of a tiny face's normal (a body of
+    // size 1e-100) underflow, those of a huge one overflow; the checks use the unit normal.
+    const double length = outward.stableNorm();
     if (!(length > 0) || !std::isfinite(length))
       throw InvalidInput(where + " has zero area (its vertices are collinear)");
-    std::array<int, 3> s = support_triple(vertices, face.loops[0], outward);
+    const Vec3 unit = outward / length;
+    std::array<int, 3> s = support_triple(vertices, face.loops[0], unit);
     if (s[2] < 0) throw InvalidInput(where + " has zero area (its vertices are collinear)");
     if (collinear(vertices[s[0]], vertices[s[1]], vertices[s[2]]))
       throw InvalidInput(where + " is degenerate (its vertices are collinear)");
     impl->supports[f] = s;
-    Vec3 unit = outward / length;
     // Inner normal = −outward; d from the vertex average of the outer loop.
     Vec3 centre = Vec3::Zero();
     for (int v : face.loops[0]) centre += vertices[v];
@@ -277,13 +279,13 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
                              " off its plane (tolerance " + fmt(tolerance) + ")");
       }
     for (size_t l = 1; l < face.loops.size(); ++l)
-      if (newell_normal(vertices, face.loops[l]).dot(outward) >= 0)
+      if (newell_normal(vertices, face.loops[l]).dot(unit) >= 0)
         throw InvalidInput(where + ": hole " + str(static_cast<int>(l)) +
                            " runs the same way as the outer loop (holes must run the other way)");
-    if (newell_normal(vertices, face.loops[0]).dot(outward) <= 0)
+    if (newell_normal(vertices, face.loops[0]).dot(unit) <= 0)
       throw InvalidInput(where + ": its outer loop is smaller than its holes");
     try {
-      for (const auto& t : triangulate_polygon(vertices, face.loops, outward))
+      for (const auto& t : triangulate_polygon(vertices, face.loops, unit))
         impl->triangles.push_back({t, f});
     } catch (const InvalidInput& e) {
       throw InvalidInput(where + " is not a simple polygon: " + e.what());

@@ -1,6 +1,7 @@
 #include "hedra/mesh/merge_coplanar.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 #include <Eigen/SVD>
@@ -89,8 +90,16 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   // Step 2: per-polygon normal and exact supporting triple.
   std::vector<Vec3> normals(n);
   std::vector<std::array<int, 3>> supports(n);
+  // Newell normals grow as the square of the coordinates: for a body of size 1e-100 their
+  // products and squares underflow to 0. One power of two for all (exact, same weights)
+  // brings them to the size of the squared unit.
+  double max_abs = 0;
+  for (const Vec3& p : v) max_abs = std::max(max_abs, p.cwiseAbs().maxCoeff());
+  int exponent = 0;
+  if (max_abs > 0 && std::isfinite(max_abs)) std::frexp(max_abs, &exponent);
+  const double normal_scale = std::ldexp(1.0, -2 * exponent);
   for (int p = 0; p < n; ++p) {
-    normals[p] = newell_normal(v, polys[p]);
+    normals[p] = newell_normal(v, polys[p]) * normal_scale;
     // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
     // triangles, such as the corner faces of decomposition pieces written to files.
     supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
