@@ -115,6 +115,17 @@ int main(int argc, char** argv) {
   }
 
   hedra::cli::set_import_tolerance(tolerance);
+  // What the run builds, for the one resource error that no input check can rule out: the
+  // machine running out of memory (the guards bound what an input may ask for, not what the
+  // machine has).
+  std::string building = "the demo scene";
+  if (*info) building = "the bodies of " + info_file;
+  if (*convert) building = convert_out + " from " + convert_in;
+  if (*decompose) building = "the convex pieces of " + dec.file;
+  if (*clip) building = "the parts of " + clip_args.segments_file + " clipped by " + clip_args.body_file;
+  if (*hlr) building = "the hidden lines of " + hlr_args.scene_file;
+  if (*render) building = "the image of " + render_args.scene_file;
+  if (*shadows) building = "the shadows of " + shadows_args.scene_file;
   try {
     if (*info) {
       std::vector<hedra::cli::NamedBody> bodies;
@@ -196,10 +207,11 @@ int main(int argc, char** argv) {
     std::cerr << "hedra: internal error: " << hedra::cli::sanitize_message(e.what()) << "\n";
     return 1;
   } catch (const std::bad_alloc&) {
-    // Resource guards keep every input within stated limits (docs/io.md); reaching this is a
-    // bug, but the message says what happened rather than "std::bad_alloc".
-    std::cerr << "hedra: internal error: out of memory\n";
-    return 1;
+    // A resource error, not a bug: the input is within hedra's limits (docs/io.md) but this
+    // machine has not the memory to build its result.
+    return fail("out of memory while building " + building +
+                    " (the input is valid but needs more memory than is available)",
+                kExitInvalidInput);
   } catch (const std::exception& e) {
     std::cerr << "hedra: internal error: " << hedra::cli::sanitize_message(e.what()) << "\n";
     return 1;
