@@ -5,7 +5,7 @@ JOBS       ?= 2
 CMAKE_ARGS ?=
 
 BENCH_BUILD ?= build-bench
-FUZZ_BUILD   ?= build-fuzz
+FUZZ_BUILD   ?= $(ASAN_BUILD)
 FUZZ_SECONDS ?= 60
 
 .PHONY: all deps build demo test test-asan bench-build bench bench-quick fuzz-build fuzz clean
@@ -25,9 +25,21 @@ demo: build
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
 
-# Second build of everything with AddressSanitizer + UBSan (CI runs it after `make test`).
-test-asan: deps
-	cmake -S . -B $(ASAN_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DHEDRA_SANITIZE=ON $(CMAKE_ARGS) > /dev/null
+# Second build with clang, AddressSanitizer + UBSan: every test again, and in the same build the
+# libFuzzer targets of tests/fuzz (the libraries also carry -fsanitize=fuzzer-no-link), so the
+# sanitizer tests and the fuzz runs share one compilation (CI runs both; .ci/run). No examples
+# (nothing there to test) and no Python module (it would need a sanitized interpreter).
+# A build directory configured earlier with GCC (as test-asan used to) gets a fresh CMake cache.
+SANITIZE_CONFIGURE = if [ -f $(1)/CMakeCache.txt ] && ! grep -q '^CMAKE_CXX_COMPILER:.*clang' $(1)/CMakeCache.txt; then \
+    echo "$(1): configured with another compiler; configuring it again with clang"; \
+    rm -rf $(1)/CMakeCache.txt $(1)/CMakeFiles; fi; \
+  cmake -S . -B $(1) -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DHEDRA_BUILD_FUZZ=ON \
+  -DHEDRA_BUILD_EXAMPLES=OFF $(CMAKE_ARGS) > /dev/null
+
+test-asan:
+	bash scripts/install-deps.sh clang libclang-rt-14-dev
+	$(call SANITIZE_CONFIGURE,$(ASAN_BUILD))
 	cmake --build $(ASAN_BUILD) -j$(JOBS)
 	cd $(ASAN_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j$(JOBS)
 
@@ -45,11 +57,11 @@ bench-quick: bench-build
 	HEDRA_BENCH_QUICK=1 bash scripts/run-bench.sh $(BENCH_BUILD)
 
 # libFuzzer targets (clang, ASan + UBSan) for every reader and for scene -> commands, each run
-# FUZZ_SECONDS on its seed corpus (tests/fuzz/corpus); fails on any finding.
+# FUZZ_SECONDS on its seed corpus (tests/fuzz/corpus); fails on any finding. They live in the
+# sanitizer build (FUZZ_BUILD defaults to ASAN_BUILD); fuzz-build compiles only what they need.
 fuzz-build:
 	bash scripts/install-deps.sh clang libclang-rt-14-dev
-	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DHEDRA_BUILD_FUZZ=ON \
-	  -DHEDRA_BUILD_TESTS=OFF -DHEDRA_BUILD_EXAMPLES=OFF -DHEDRA_WITH_TETGEN=OFF $(CMAKE_ARGS) > /dev/null
+	$(call SANITIZE_CONFIGURE,$(FUZZ_BUILD))
 	cmake --build $(FUZZ_BUILD) -j$(JOBS) --target hedra_fuzzers
 
 fuzz: fuzz-build

@@ -1,10 +1,13 @@
 // libFuzzer target: a small scene through what every command computes: info (convexity,
-// volume, area), decompose, clip, hlr, shadows, render, and convert's round trips (hedra must
-// read back every file it writes).
+// volume, area), decompose, clip (pieces, inside and outside, the batch path against the
+// scalar one, the parts' end points), hlr, shadows, render, and convert's round trips through
+// the scene file and every full-precision mesh format (hedra must read back every file it
+// writes; binary STL is float32 by design, docs/io.md).
 #include <cstdio>
 #include <cstdlib>
 
 #include "fuzz_common.h"
+#include "hedra/clip/batch_clip.h"
 #include "hedra/clip/convex_clipper.h"
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/decompose/decompose.h"
@@ -14,7 +17,10 @@
 #include "hedra/render/raster.h"
 #include "hedra/visibility/roberts.h"
 #include "hedra/visibility/shadows.h"
+#include "obj.h"
 #include "off.h"
+#include "ply.h"
+#include "stl.h"
 
 namespace {
 
@@ -42,10 +48,29 @@ void commands(const Scene& scene) {
     rejected_own_output("scene file", e);
   }
   for (const SceneBody& b : scene.bodies()) {
+    io::WriteOptions options;
+    options.stl_ascii = true;
+    options.names = {b.name};
+    const std::vector<Body> one{b.body};
     try {
-      bodies_from_soup(io::parse_off("again.off", io::format_bodies({b.body}, io::MeshFormat::Off)));
+      bodies_from_soup(io::parse_off("again.off", io::format_bodies(one, io::MeshFormat::Off)));
     } catch (const InvalidInput& e) {
       rejected_own_output("OFF file", e);
+    }
+    try {
+      bodies_from_soup(io::parse_obj("again.obj", io::format_bodies(one, io::MeshFormat::Obj, options)));
+    } catch (const InvalidInput& e) {
+      rejected_own_output("OBJ file", e);
+    }
+    try {
+      bodies_from_soup(io::parse_ply("again.ply", io::format_bodies(one, io::MeshFormat::Ply)));
+    } catch (const InvalidInput& e) {
+      rejected_own_output("PLY file", e);
+    }
+    try {
+      bodies_from_soup(io::parse_stl("again.stl", io::format_bodies(one, io::MeshFormat::Stl, options)));
+    } catch (const InvalidInput& e) {
+      rejected_own_output("ASCII STL file", e);
     }
   }
   // info, decompose, clip.
@@ -68,10 +93,31 @@ void commands(const Scene& scene) {
     const Vec3 centre = box.center();
     const std::pair<Vec3, Vec3> segments[] = {
         {lo, hi}, {Vec3(lo.x(), hi.y(), lo.z()), Vec3(hi.x(), lo.y(), hi.z())}, {centre, centre}};
+    if (pieces.empty()) continue;
+    const std::span<const ConvexClipper> all(pieces);
+    SegmentArrays batch;
     for (const auto& [p, q] : segments) {
-      if (!pieces.empty()) {
-        clip_segment(std::span<const ConvexClipper>(pieces), p, q);
-        clip_segment_outside(std::span<const ConvexClipper>(pieces), p, q);
+      for (const ClipPart& part : clip_segment(all, p, q)) {
+        (void)end_point(all, part.start, p, q);
+        (void)end_point(all, part.end, p, q);
+      }
+      for (const ClipPart& part : clip_segment_outside(all, p, q)) {
+        (void)end_point(all, part.start, p, q);
+        (void)end_point(all, part.end, p, q);
+      }
+      batch.push_back(p, q);
+    }
+    // The batch path (hedra clip against one convex piece) equals the scalar one bit for bit.
+    BatchClipResult result;
+    BatchClipOptions batch_options;
+    batch_options.threads = 1;
+    clip_batch(pieces[0], batch, result, batch_options);
+    for (size_t i = 0; i < batch.size(); ++i) {
+      const std::optional<ClipPart> scalar = clip_segment(pieces[0], batch.start(i), batch.end(i));
+      if (scalar.has_value() != result.visible(i) ||
+          (scalar && (scalar->start.t != result.t_start[i] || scalar->end.t != result.t_end[i]))) {
+        std::fprintf(stderr, "batch and scalar clipping differ on segment %zu\n", i);
+        std::abort();
       }
     }
   }
