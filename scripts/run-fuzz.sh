@@ -20,7 +20,7 @@ for t in "${targets[@]}"; do
   log="$build/fuzz-$t.log"
   # -timeout: one input may take at most 10 s; -rss_limit_mb: 2 GB; inputs up to 64 KB.
   if ! ASAN_OPTIONS=detect_leaks=1:allocator_may_return_null=0 UBSAN_OPTIONS=print_stacktrace=1 \
-      "$build/tests/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+      "$build/fuzz_$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
       -max_len=65536 -print_final_stats=1 -artifact_prefix="$build/findings/$t-" \
       "$work" "tests/fuzz/corpus/$t" > "$log" 2>&1; then
     echo "fuzz: $t found a problem; the log is $log, the input in $build/findings/:" >&2

@@ -115,7 +115,10 @@ void Roberts::junctions() {
   const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
   Scratch scratch;
   std::vector<int> ids;
-  for (const auto& [i, j] : touching_pairs()) {
+  for (const auto& pair : touching_pairs()) {
+    // Plain variables, not a structured binding: the lambdas below capture them (clang 14,
+    // the fuzz and sanitizer compiler, cannot capture bindings).
+    const int i = pair.first, j = pair.second;
     // A junction segment lies on face fa of body i and face fb of body j.
     const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
                                              detail::Candidates& out) {

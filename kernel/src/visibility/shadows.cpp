@@ -237,7 +237,10 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
   if (options.polygons && options.counts && lights.size() >= 2) {
     std::vector<std::vector<ShadowCount>> per_face(nf);
     parallel_for(nf, options.threads, [&](size_t i) {
-      const auto [b, f] = m.faces[i];
+      // Plain variables, not a structured binding: the lambdas below capture f (clang 14, the
+      // fuzz and sanitizer compiler, cannot capture bindings).
+      const auto [face_body, face_index] = m.faces[i];
+      const auto b = face_body, f = face_index;
       const ShadowBody& bd = m.bodies[static_cast<size_t>(b)];
       const ShadowFace& fd = bd.faces[static_cast<size_t>(f)];
       // A light the face turns its back to shadows all of it: it adds one to every count.
