@@ -60,8 +60,7 @@ class Body {
   /// in range and no repeated vertex; every vertex used; consistent orientation (each directed
   /// edge once); closed (each edge has both directions); manifold vertices; planar faces
   /// whose loops are simple and bound a region; no repeated faces; non-zero volume with
-  /// outward-facing faces. Self-intersection between faces is checked separately
-  /// (find_self_intersection in hedra/mesh/self_intersection.h; the readers run it).
+  /// outward-facing faces.
   /// \throw InvalidInput with a message such as "face 12 is not planar: vertex 40 is
   ///   3.1e-04 off its plane (tolerance 1.4e-14)". Cost O(V + E log E).
   Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOptions& options = {});
