@@ -41,7 +41,10 @@ std::string off(const std::vector<std::array<double, 3>>& v, const std::vector<s
   }
   for (const auto& poly : f) {
     s += std::to_string(poly.size());
-    for (int i : poly) s += " " + std::to_string(i);
+    for (int i : poly) {
+      s += ' ';
+      s += std::to_string(i);
+    }
     s += "\n";
   }
   return s;

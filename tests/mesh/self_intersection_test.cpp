@@ -107,9 +107,10 @@ void expect_agrees(const Body& body, const std::string& what) {
   const auto hit = find_self_intersection(body);
   const auto ref = reference(body);
   ASSERT_EQ(hit.has_value(), !ref.empty()) << what;
-  if (hit)
+  if (hit) {
     EXPECT_NE(std::find(ref.begin(), ref.end(), std::make_pair(hit->face_a, hit->face_b)), ref.end())
         << what << ": reported faces " << hit->face_a << " and " << hit->face_b;
+  }
 }
 
 TEST(SelfIntersection, ValidBodiesPass) {
