@@ -571,6 +571,10 @@ void bind_scene(py::module_& m) {
                              "(k, 6) hidden edge segments (with hidden=True).")
       .def_property_readonly("junction", [](const PyHiddenLines& h) { return segments_of(h.result.visible, LineKind::Junction); },
                              "(k, 6) visible junction segments (where bodies interpenetrate).")
+      .def_property_readonly("outline", [](const PyHiddenLines& h) { return segments_of(h.result.visible, LineKind::Outline); },
+                             "(k, 6) visible outline segments (contours of smooth parts).")
+      .def_property_readonly("smooth", [](const PyHiddenLines& h) { return segments_of(h.result.visible, LineKind::Smooth); },
+                             "(k, 6) visible smooth-edge segments (with smooth=True).")
       .def_readonly("ms", &PyHiddenLines::ms)
       .def_property_readonly("stats", [](const PyHiddenLines& h) {
         const HlrStats& s = h.result.stats;
@@ -581,6 +585,8 @@ void bind_scene(py::module_& m) {
         d["back_edges"] = s.back_edges;
         d["occlusion_tests"] = s.occlusion_tests;
         d["junction_segments"] = s.junction_segments;
+        d["smooth_edges"] = s.smooth_edges;
+        d["outline_segments"] = s.outline_segments;
         return d;
       })
       .def("to_json", [](const PyHiddenLines& h) { return io::hidden_lines_json(h.result, h.ms); },
@@ -589,7 +595,7 @@ void bind_scene(py::module_& m) {
            "The drawing as SVG text (hidden lines dashed when computed, or as asked).")
       .def("_repr_svg_", [](const PyHiddenLines& h) { return svg_of(h, std::nullopt, ""); });
   m.def("hidden_lines",
-        [](const PyScene& s, bool hidden, bool junctions) {
+        [](const PyScene& s, bool hidden, bool junctions, double crease_angle, bool smooth) {
           PyHiddenLines out;
           out.width = s.scene.camera.width;
           out.height = s.scene.camera.height;
@@ -599,6 +605,8 @@ void bind_scene(py::module_& m) {
           HlrOptions options;
           options.hidden = hidden;
           options.junctions = junctions;
+          options.crease_angle = crease_angle;
+          options.smooth = smooth;
           py::gil_scoped_release release;
           const auto t0 = Clock::now();
           try {
@@ -610,7 +618,9 @@ void bind_scene(py::module_& m) {
           return out;
         },
         py::arg("scene"), py::arg("hidden") = true, py::arg("junctions") = true,
-        "Exact hidden-line removal with the scene's camera.");
+        py::arg("crease_angle") = 30.0, py::arg("smooth") = false,
+        "Exact hidden-line removal with the scene's camera: sharp edges (turning by more than "
+        "crease_angle degrees), outlines of smooth parts, smooth edges when smooth=True.");
 
   // ---- shadows ----
   py::class_<PyShadows>(m, "Shadows", "Exact shadows of every light on every face.")

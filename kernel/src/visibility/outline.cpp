@@ -70,13 +70,18 @@ std::vector<Vec3> corner_normals(const Body& body, double crease_angle_deg,
         }
         // Area-weighted normals of the faces around x that turn from f by at most the crease
         // angle: a crease keeps its two sides apart, a smooth region shares one normal.
+        // A corner where f meets no other face within the crease angle keeps f's normal
+        // exactly, so that outline() knows a flat face (a box's) has no contour.
         Vec3 sum = Vec3::Zero();
+        bool alone = true;
         for (int i = start[static_cast<size_t>(x)]; i < start[static_cast<size_t>(x) + 1]; ++i) {
           const int g = around[static_cast<size_t>(i)];
-          if (normal[static_cast<size_t>(g)].dot(normal[f]) >= cos_crease)
+          if (normal[static_cast<size_t>(g)].dot(normal[f]) >= cos_crease) {
             sum += body.face_area(g) * normal[static_cast<size_t>(g)];
+            alone = alone && static_cast<size_t>(g) == f;
+          }
         }
-        out.push_back(sum.norm() > 0 ? Vec3(sum.normalized()) : normal[f]);
+        out.push_back(!alone && sum.norm() > 0 ? Vec3(sum.normalized()) : normal[f]);
       }
   }
   return out;
@@ -105,6 +110,13 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
 
   std::vector<OutlineSegment> out;
   for (const Triangle& t : body.triangles()) {
+    // A flat-shaded triangle (every corner on the face's own normal) has n·r of one sign in
+    // exact arithmetic, the sign facing() decides; rounding must not make a contour there
+    // (a box face seen edge-on).
+    const Vec3 face_normal = outward_normal(body, t.face);
+    bool flat = true;
+    for (int k = 0; k < 3; ++k) flat = flat && normals[static_cast<size_t>(corner(t.face, t.v[k]))] == face_normal;
+    if (flat) continue;
     double g[3];
     bool positive[3];
     for (int k = 0; k < 3; ++k) {
