@@ -126,6 +126,24 @@ TEST(LineClasses, SphereOutlineInPerspective) {
               5e-3 * expected);
 }
 
+TEST(LineClasses, ConeOutlineRunsToItsApex) {
+  // A cone of radius 1 and height 4 seen in parallel along d = (1, 0, −k): its side normal at
+  // angle φ about the axis is (cos φ, sin φ, 1/4), the contour is where it is perpendicular
+  // to d, cos φ = k/4: two generators from the apex to (cos φ, ±sin φ, 0), each projected
+  // to its part perpendicular to d. (All faces meet at the apex, where the analytic normal is
+  // undefined: the contour must still reach it.)
+  for (const double k : {0.5, 1.5}) {
+    const Vec3 d = Vec3(1, 0, -k).normalized();
+    const double c = k / 4, sn = std::sqrt(1 - c * c);
+    const Vec3 generator = Vec3(c, sn, 0) - Vec3(0, 0, 4);
+    const double expected = 2 * (generator - generator.dot(d) * d).norm();
+    const std::vector<Body> bodies{cone(1, 0, 4, 1e-4)};
+    const std::vector<SmoothSurface> surfaces{SmoothSurface::cone(1, 0, 4)};
+    const HlrResult r = hidden_lines(bodies, surfaces, Camera::parallel(d, {0, 0, 1}));
+    EXPECT_NEAR(r.picture_length(LineKind::Outline), expected, 5e-3 * expected) << "k = " << k;
+  }
+}
+
 TEST(LineClasses, BoxesAreDrawnAsWithoutClasses) {
   // Only sharp edges: the same segments with any crease angle below 90°, and no outline.
   const std::vector<Body> bodies{box({0, 0, 0}, {2, 1, 1}), box({1, 0.5, 0.5}, {3, 2, 3})};

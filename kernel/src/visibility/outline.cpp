@@ -108,6 +108,25 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
     return std::lower_bound(first, last, std::make_pair(x, -1))->second;
   };
 
+  // Singular points of the analytic surface (a cone's apex): the curved faces around the
+  // vertex give it different normals, one per face. Every contour generator passes through
+  // such a point, so n·r counts as 0 there: the contour reaches it from the one triangle
+  // where the sign changes on the opposite side, instead of stopping short at a side.
+  std::vector<char> singular(v.size(), 0);
+  if (surface.is_smooth()) {
+    std::vector<const Vec3*> first(v.size(), nullptr);
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (!curved(surface, outward_normal(body, static_cast<int>(f)))) continue;
+      for (const auto& loop : faces[f].loops)
+        for (int x : loop) {
+          const Vec3& n = normals[static_cast<size_t>(corner(static_cast<int>(f), x))];
+          const Vec3*& seen = first[static_cast<size_t>(x)];
+          if (seen == nullptr) seen = &n;
+          else if (!(*seen - n).isZero(1e-9)) singular[static_cast<size_t>(x)] = 1;
+        }
+    }
+  }
+
   std::vector<OutlineSegment> out;
   for (const Triangle& t : body.triangles()) {
     // A flat-shaded triangle (every corner on the face's own normal) has n·r of one sign in
@@ -121,7 +140,9 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
     bool positive[3];
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = v[static_cast<size_t>(t.v[k])];
-      g[k] = normals[static_cast<size_t>(corner(t.face, t.v[k]))].dot(view.ray_to(p));
+      g[k] = singular[static_cast<size_t>(t.v[k])]
+                 ? 0.0
+                 : normals[static_cast<size_t>(corner(t.face, t.v[k]))].dot(view.ray_to(p));
       positive[k] = g[k] >= 0;
     }
     if (positive[0] == positive[1] && positive[1] == positive[2]) continue;
