@@ -151,7 +151,8 @@ py::tuple scene_state(const PyScene& s) {
   py::list bodies;
   for (const SceneBody& b : s.scene.bodies())
     bodies.append(py::make_tuple(b.name, py::cast(PyBody{b.body, SmoothSurface()}).attr("__getstate__")(),
-                                 material_state(b.material), b.hidden, b.lod_note));
+                                 material_state(b.material), b.hidden, b.lod_note,
+                                 py::cast(b.surface.state())));
   py::list lights;
   for (const Light& l : s.scene.lights) lights.append(light_state(l));
   return py::make_tuple(1, bodies, camera_state(s.scene.camera), lights,
@@ -170,6 +171,8 @@ PyScene scene_from(const py::tuple& t) {
                                    material_from(b[2].cast<py::tuple>()));
     added.hidden = b[3].cast<bool>();
     added.lod_note = b[4].cast<std::string>();
+    // The analytic surface (hidden-line outlines, smooth shading); absent in older pickles.
+    if (b.size() > 5) added.surface = SmoothSurface::from_state(b[5].cast<std::vector<double>>());
   }
   s.scene.camera = camera_from(t[2].cast<py::tuple>());
   for (const py::handle l : t[3].cast<py::list>()) s.scene.lights.push_back(light_from(l.cast<py::tuple>()));
