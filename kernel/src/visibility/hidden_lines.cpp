@@ -276,6 +276,33 @@ void Roberts::build_index() {
   grid_.build(boxes, result_.picture_box);
   result_.stats.grid_cells = grid_.cells();
   occluder_count_ = boxes.size();
+  by_near_.resize(pieces_.size());
+  std::iota(by_near_.begin(), by_near_.end(), 0);
+  std::sort(by_near_.begin(), by_near_.end(), [&](int x, int y) {
+    const double nx = pieces_[static_cast<size_t>(x)].near, ny = pieces_[static_cast<size_t>(y)].near;
+    return nx < ny || (nx == ny && x < y);
+  });
+  near_rank_.resize(pieces_.size());
+  for (size_t r = 0; r < by_near_.size(); ++r) near_rank_[static_cast<size_t>(by_near_[r])] = static_cast<int>(r);
+}
+
+void Roberts::near_first(std::vector<int>& ids, Scratch& scratch) const {
+  const int pieces = static_cast<int>(pieces_.size());
+  const auto facet_start = std::stable_partition(ids.begin(), ids.end(), [&](int id) { return id < pieces; });
+  const size_t k = static_cast<size_t>(facet_start - ids.begin());
+  if (k < 2) return;
+  if (k * 16 < pieces_.size()) {
+    std::sort(ids.begin(), facet_start, [&](int x, int y) {
+      return near_rank_[static_cast<size_t>(x)] < near_rank_[static_cast<size_t>(y)];
+    });
+    return;
+  }
+  if (scratch.mark.size() != pieces_.size()) scratch.mark.assign(pieces_.size(), 0), scratch.mark_current = 0;
+  const unsigned m = ++scratch.mark_current;
+  for (auto it = ids.begin(); it != facet_start; ++it) scratch.mark[static_cast<size_t>(*it)] = m;
+  auto out = ids.begin();
+  for (int id : by_near_)
+    if (scratch.mark[static_cast<size_t>(id)] == m) *out++ = id;
 }
 
 void Roberts::candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::vector<int>& out) const {
@@ -364,9 +391,7 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     } else {
       // Nearest pieces first: a piece that hides the whole edge ends the search.
       std::erase_if(ids, [&](int id) { return id >= static_cast<int>(pieces_.size()); });
-      std::sort(ids.begin(), ids.end(), [&](int x, int y) {
-        return pieces_[static_cast<size_t>(x)].near < pieces_[static_cast<size_t>(y)].near;
-      });
+      near_first(ids, scratch);
       parts.clear();
       for (int id : ids) {
         const HlrPiece& o = pieces_[static_cast<size_t>(id)];

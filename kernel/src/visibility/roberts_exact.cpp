@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
+#include <unordered_map>
 
 #include "hedra/core/error.h"
 
@@ -224,19 +226,45 @@ std::vector<HPlane> hplanes(std::span<const ExactPlane> planes) {
   return out;
 }
 
-// The visible parts of P1P2 (fractions) against the candidates, exactly.
+}  // namespace
+
+struct ExactPlaneCache::Impl {
+  std::unordered_map<const void*, std::vector<HPlane>> planes;
+};
+ExactPlaneCache::ExactPlaneCache() : impl(std::make_unique<Impl>()) {}
+ExactPlaneCache::~ExactPlaneCache() = default;
+
+namespace {
+
+// hplanes(planes), from the cache when there is one (keyed by the occluder's plane list).
+const std::vector<HPlane>& cached_hplanes(const std::vector<ExactPlane>& planes,
+                                          ExactPlaneCache* cache, std::vector<HPlane>& local) {
+  if (!cache) return local = hplanes(planes);
+  auto [it, added] = cache->impl->planes.try_emplace(&planes);
+  if (added) it->second = hplanes(planes);
+  return it->second;
+}
+
+// The visible parts of P1P2 (fractions) against the candidates, exactly. A candidate that hides
+// the whole segment ends the search (the rest cannot change the answer).
 std::vector<Interval> visible_fracs(const HPoint& p1, const HPoint& p2, const Candidates& cand,
-                                    const Viewpoint& view, bool brute) {
+                                    const Viewpoint& view, bool brute,
+                                    ExactPlaneCache* cache = nullptr) {
   std::vector<Interval> hidden;
+  std::vector<HPlane> local;
+  const Frac start{Q(0), Q(1)}, end{Q(1), Q(1)};
   for (const PieceOccluder* o : cand.pieces) {
     std::optional<Interval> part;
     if (brute) {
-      part = hidden_brute_force(hplanes(*o->faces), view, p1, p2);
+      part = hidden_brute_force(cached_hplanes(*o->faces, cache, local), view, p1, p2);
     } else {
       if (!o->volume) continue;
-      part = clip_open_exact(hplanes(o->volume->planes()), p1, p2);
+      part = clip_open_exact(cached_hplanes(o->volume->planes(), cache, local), p1, p2);
     }
-    if (part) hidden.push_back(std::move(*part));
+    if (part) {
+      if (cmp(part->lo, start) <= 0 && cmp(part->hi, end) >= 0) return {};
+      hidden.push_back(std::move(*part));
+    }
   }
   for (const FacetOccluder* f : cand.facets) {
     const HPlane c = hplane(f->plane);
@@ -380,10 +408,15 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          const std::vector<ExactPlane>& planes_a,
                                          const std::vector<ExactPlane>& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
-                                         bool brute, int& found) {
+                                         bool brute, int& found, const std::vector<bool>& back_a,
+                                         const std::vector<bool>& back_b, ExactPlaneCache* cache) {
   std::vector<JunctionPart> out;
   std::vector<Eigen::AlignedBox3d> boxes_b;
-  for (int fb = 0; fb < b.face_count(); ++fb) boxes_b.push_back(face_box(b, fb));
+  std::vector<HPlane> hplanes_b;
+  for (int fb = 0; fb < b.face_count(); ++fb) {
+    boxes_b.push_back(face_box(b, fb));
+    hplanes_b.push_back(hplane(planes_b[static_cast<size_t>(fb)]));
+  }
   Candidates candidates;
   for (int fa = 0; fa < a.face_count(); ++fa) {
     const Eigen::AlignedBox3d box_a = face_box(a, fa);
@@ -391,7 +424,7 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
     const HPlane ha = hplane(planes_a[static_cast<size_t>(fa)]);
     for (int fb = 0; fb < b.face_count(); ++fb) {
       if (!box_a.intersects(boxes_b[static_cast<size_t>(fb)])) continue;
-      const HPlane hb = hplane(planes_b[static_cast<size_t>(fb)]);
+      const HPlane& hb = hplanes_b[static_cast<size_t>(fb)];
       // Direction of L = na × nb; parallel planes have no junction line.
       const Q dir[3] = {ha.n[1] * hb.n[2] - ha.n[2] * hb.n[1], ha.n[2] * hb.n[0] - ha.n[0] * hb.n[2],
                         ha.n[0] * hb.n[1] - ha.n[1] * hb.n[0]};
@@ -406,6 +439,9 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
       const std::vector<Span> sa = face_spans(a, fa, planes_b[static_cast<size_t>(fb)], hb, axis);
       if (sa.empty()) continue;
       const std::vector<Span> sb = face_spans(b, fb, planes_a[static_cast<size_t>(fa)], ha, axis);
+      // On a back face of a convex body: hidden by that body (counted, not tested).
+      const bool hidden_by_own = (!back_a.empty() && back_a[static_cast<size_t>(fa)]) ||
+                                 (!back_b.empty() && back_b[static_cast<size_t>(fb)]);
       // Intersection of the two sorted span lists.
       size_t i = 0, j = 0;
       while (i < sa.size() && j < sb.size()) {
@@ -414,11 +450,16 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
         const HPoint& hi = a_first ? sa[i].hi : sb[j].hi;
         if (cmp_along(lo, hi, axis) < 0) {
           ++found;
+          if (hidden_by_own) {
+            if (a_first) ++i;
+            else ++j;
+            continue;
+          }
           const Vec3 ra = rounded(lo), rb = rounded(hi);
           candidates.pieces.clear();
           candidates.facets.clear();
           query(ra, rb, fa, fb, candidates);
-          for (const Interval& v : visible_fracs(lo, hi, candidates, view, brute)) {
+          for (const Interval& v : visible_fracs(lo, hi, candidates, view, brute, cache)) {
             JunctionPart part{point_at(lo, hi, v.lo), point_at(lo, hi, v.hi)};
             if (part.a != part.b) out.push_back(part);
           }
