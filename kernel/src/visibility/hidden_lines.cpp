@@ -276,6 +276,10 @@ void Roberts::build_index() {
   grid_.build(boxes, result_.picture_box);
   result_.stats.grid_cells = grid_.cells();
   occluder_count_ = boxes.size();
+  occluder_box_ = std::move(boxes);
+  occluder_near_.clear();
+  for (const HlrPiece& p : pieces_) occluder_near_.push_back(p.near);
+  for (const HlrFacet& f : facets_) occluder_near_.push_back(f.near);
   by_near_.resize(pieces_.size());
   std::iota(by_near_.begin(), by_near_.end(), 0);
   std::sort(by_near_.begin(), by_near_.end(), [&](int x, int y) {
@@ -310,13 +314,8 @@ void Roberts::candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::ve
   const Vec2 a2 = projection_.project(a), b2 = projection_.project(b);
   const double far = std::max(projection_.depth(a), projection_.depth(b));
   const auto consider = [&](int id) {
-    const bool piece = id < static_cast<int>(pieces_.size());
-    const Eigen::AlignedBox2d& box = piece ? pieces_[static_cast<size_t>(id)].box
-                                           : facets_[static_cast<size_t>(id) - pieces_.size()].box;
-    const double near = piece ? pieces_[static_cast<size_t>(id)].near
-                              : facets_[static_cast<size_t>(id) - pieces_.size()].near;
-    if (near >= far) return;  // wholly behind the segment: cannot hide it
-    if (!segment_meets_box(a2, b2, box)) return;
+    if (occluder_near_[static_cast<size_t>(id)] >= far) return;  // wholly behind: cannot hide it
+    if (!segment_meets_box(a2, b2, occluder_box_[static_cast<size_t>(id)])) return;
     out.push_back(id);
   };
   if (!options_.spatial_index || options_.stage2 == HlrOptions::Stage2::BruteForce) {

@@ -224,6 +224,10 @@ class Roberts {
   std::vector<HlrFacet> facets_;
   PictureGrid grid_;
   size_t occluder_count_ = 0;
+  // Picture box and near depth of every occluder (pieces, then facets), packed apart from the
+  // large HlrPiece records so that the candidate search reads contiguous memory.
+  std::vector<Eigen::AlignedBox2d> occluder_box_;
+  std::vector<double> occluder_near_;
   std::vector<int> by_near_;    // piece ids by increasing near depth (ties by id)
   std::vector<int> near_rank_;  // position of each piece in by_near_
   std::optional<std::vector<std::pair<int, int>>> pairs_;
