@@ -12,6 +12,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 
 #include "hedra/core/error.h"
@@ -412,11 +413,9 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          const std::vector<bool>& back_b, ExactPlaneCache* cache) {
   std::vector<JunctionPart> out;
   std::vector<Eigen::AlignedBox3d> boxes_b;
-  std::vector<HPlane> hplanes_b;
-  for (int fb = 0; fb < b.face_count(); ++fb) {
-    boxes_b.push_back(face_box(b, fb));
-    hplanes_b.push_back(hplane(planes_b[static_cast<size_t>(fb)]));
-  }
+  // B's exact planes built on first use (only faces near A's are ever needed), then reused.
+  std::vector<std::optional<HPlane>> hplanes_b(static_cast<size_t>(b.face_count()));
+  for (int fb = 0; fb < b.face_count(); ++fb) boxes_b.push_back(face_box(b, fb));
   Candidates candidates;
   for (int fa = 0; fa < a.face_count(); ++fa) {
     const Eigen::AlignedBox3d box_a = face_box(a, fa);
@@ -424,7 +423,9 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
     const HPlane ha = hplane(planes_a[static_cast<size_t>(fa)]);
     for (int fb = 0; fb < b.face_count(); ++fb) {
       if (!box_a.intersects(boxes_b[static_cast<size_t>(fb)])) continue;
-      const HPlane& hb = hplanes_b[static_cast<size_t>(fb)];
+      std::optional<HPlane>& cached_b = hplanes_b[static_cast<size_t>(fb)];
+      if (!cached_b) cached_b = hplane(planes_b[static_cast<size_t>(fb)]);
+      const HPlane& hb = *cached_b;
       // Direction of L = na × nb; parallel planes have no junction line.
       const Q dir[3] = {ha.n[1] * hb.n[2] - ha.n[2] * hb.n[1], ha.n[2] * hb.n[0] - ha.n[0] * hb.n[2],
                         ha.n[0] * hb.n[1] - ha.n[1] * hb.n[0]};
