@@ -60,7 +60,7 @@ def peak_kb(cmd):
               "p=subprocess.run(sys.argv[1:],capture_output=True,text=True);"
               "u=resource.getrusage(resource.RUSAGE_CHILDREN);"
               "print(json.dumps({'rc':p.returncode,'cpu_s':u.ru_utime+u.ru_stime,'peak_kb':u.ru_maxrss,"
-              "'wall_s':time.monotonic()-s,'stdout':p.stdout[-20000:],'stderr':p.stderr[-300:]}))")
+              "'wall_s':time.monotonic()-s,'stdout':p.stdout,'stderr':p.stderr[-300:]}))")
     r = run([sys.executable, "-c", helper] + cmd)
     if "error" in r:
         return r
@@ -74,7 +74,10 @@ def faces_of(hedra, path):
     r = peak_kb([hedra, "info", path, "--json"])
     if r.get("rc") != 0:
         return None, r
-    return sum(b["faces"] for b in json.loads(r["stdout"])["bodies"]), r
+    try:
+        return sum(b["faces"] for b in json.loads(r["stdout"])["bodies"]), r
+    except (json.JSONDecodeError, KeyError, TypeError):
+        return None, {"error": "unreadable info --json output"}
 
 
 def commands(hedra, path, work):
