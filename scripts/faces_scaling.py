@@ -158,16 +158,25 @@ def main():
             with open(path, "w") as f:
                 json.dump(scene(t), f)
             entries.append(measure_case(hedra, "scene", t, path, work))
+            save(out_path, quick, entries)
         if not quick and (not only or only.startswith("mesh")):
-            mesh, triangles = write_mesh(hedra, work)
-            path = os.path.join(work, "mesh_scene.json")
-            with open(path, "w") as f:
-                json.dump({"version": 1, "bodies": [SLAB, {"name": "ball", "mesh": os.path.basename(mesh)}],
-                           "camera": CAMERA, "lights": LIGHTS, "image": IMAGE}, f)
-            e = measure_case(hedra, "mesh", 0, path, work)
-            e["triangles"] = triangles
+            try:
+                mesh, triangles = write_mesh(hedra, work)
+                path = os.path.join(work, "mesh_scene.json")
+                with open(path, "w") as f:
+                    json.dump({"version": 1, "bodies": [SLAB, {"name": "ball", "mesh": os.path.basename(mesh)}],
+                               "camera": CAMERA, "lights": LIGHTS, "image": IMAGE}, f)
+                e = measure_case(hedra, "mesh", 0, path, work)
+                e["triangles"] = triangles
+            except (OSError, subprocess.CalledProcessError, AssertionError, ValueError) as err:
+                e = {"case": "mesh", "t": 0, "faces": None, "runs": {"info": {"error": str(err)[-300:]}}}
             entries.append(e)
-    with open(out_path, "w") as f:
+    save(out_path, quick, entries)
+
+
+def save(path, quick, entries):
+    """Written after every case, so that a later failure keeps the earlier results."""
+    with open(path, "w") as f:
         json.dump({"quick": quick, "entries": entries}, f, indent=1)
 
 
