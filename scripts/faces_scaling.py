@@ -175,9 +175,10 @@ def main():
 
 
 def save(path, quick, entries):
-    """Written after every case, so that a later failure keeps the earlier results."""
+    """Written after every case, so that a later failure keeps the earlier results; with the
+    load average (a shared machine inflates wall times, CPU times much less)."""
     with open(path, "w") as f:
-        json.dump({"quick": quick, "entries": entries}, f, indent=1)
+        json.dump({"quick": quick, "load_average": os.getloadavg()[1], "entries": entries}, f, indent=1)
 
 
 if __name__ == "__main__":
