@@ -124,13 +124,13 @@ def faces_scaling(results, docs, quick=False):
         if pts:
             ax.plot([p[0] for p in pts], [p[1] for p in pts], marker="o", label=f"hedra {c} (process CPU)")
     if os.path.exists(bench_path):
-        for name, label, style in (("BM_FacesHedraHlr", "hedra hidden_lines (in process)", "--"),
-                                   ("BM_FacesOcctPoly", "OCCT PolyAlgo (in process, meshing apart)", ":")):
+        for name, label, style in (("BM_FacesHedraHlr", "hedra hidden_lines (in process, CPU)", "--"),
+                                   ("BM_FacesOcctPoly", "OCCT PolyAlgo (in process, CPU, meshing apart)", ":")):
             pts = []
             for k, v in sorted((dict(a)["t_exp"], v) for (b, a), v in runs.items() if b == name):
                 faces = hedra.get(k, [{}])[0].get("faces")
                 if faces:
-                    pts.append((faces, times_ms(v)[0] / 1000))
+                    pts.append((faces, cpu_ms(v) / 1000))
             if pts:
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], style, marker="s", label=label)
     if scene:
