@@ -6,6 +6,7 @@
 #include "visibility/roberts_exact.h"
 
 #include <CGAL/Gmpq.h>
+#include <CGAL/Interval_nt.h>
 #include <CGAL/Mpzf.h>
 
 #include <algorithm>
@@ -24,10 +25,14 @@ using Q = CGAL::Mpzf;
 
 int sgn(const Q& x) { return static_cast<int>(x.sign()); }
 
+// Enclosing intervals of the four homogeneous numbers of a plane or a point (filter).
+using Bounds = std::array<std::pair<double, double>, 4>;
+
 // A plane f(X, W) = n·X + k·W, inner side positive, exactly the ExactPlane's affine function.
 struct HPlane {
   std::array<Q, 3> n{Q(0), Q(0), Q(0)};
   Q k{0};
+  Bounds bounds{};  // of n and k, for the interval filter of signs
 };
 
 // A point (X, W), W > 0.
@@ -59,6 +64,8 @@ HPlane hplane(const ExactPlane& f) {
     for (Q& v : h.n) v = Q(0) - v;
     h.k = Q(0) - h.k;
   }
+  for (int i = 0; i < 3; ++i) h.bounds[static_cast<size_t>(i)] = CGAL::to_interval(h.n[static_cast<size_t>(i)]);
+  h.bounds[3] = CGAL::to_interval(h.k);
   return h;
 }
 
@@ -83,6 +90,25 @@ Q eval_direction(const HPlane& f, const Vec3& d) {
 Q viewer_value(const HPlane& f, const Viewpoint& view) {
   if (view.at_infinity) return Q(0) - eval_direction(f, view.direction);
   return eval(f, hpoint(view.point));
+}
+
+Bounds bounds_of(const HPoint& p) {
+  return {CGAL::to_interval(p.x[0]), CGAL::to_interval(p.x[1]), CGAL::to_interval(p.x[2]),
+          CGAL::to_interval(p.w)};
+}
+
+// sgn(eval(f, p)), decided by interval arithmetic when it can (almost always) and exactly
+// otherwise: the same sign either way.
+int sign_at(const HPlane& f, const HPoint& p, const Bounds& pb) {
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    using I = CGAL::Interval_nt_advanced;
+    I v = I(f.bounds[0]) * I(pb[0]);
+    for (size_t i = 1; i < 4; ++i) v += I(f.bounds[i]) * I(pb[i]);
+    if (v.inf() > 0) return 1;
+    if (v.sup() < 0) return -1;
+  }
+  return sgn(eval(f, p));
 }
 
 // A parameter num/den on a segment, den > 0.
@@ -117,11 +143,13 @@ struct Interval {
 std::optional<Interval> clip_open_exact(std::span<const HPlane> planes, const HPoint& p1,
                                         const HPoint& p2) {
   Frac lo{Q(0), Q(1)}, hi{Q(1), Q(1)};
+  const Bounds b1 = bounds_of(p1), b2 = bounds_of(p2);
   for (const HPlane& f : planes) {
-    const Q f1 = eval(f, p1), f2 = eval(f, p2);
-    const int s1 = sgn(f1), s2 = sgn(f2);
+    // Signs first (filtered); the exact values only for a plane the segment crosses.
+    const int s1 = sign_at(f, p1, b1), s2 = sign_at(f, p2, b2);
     if (s1 <= 0 && s2 <= 0) return std::nullopt;  // outside, or on the plane: nothing strictly in
     if (s1 > 0 && s2 > 0) continue;
+    const Q f1 = eval(f, p1), f2 = eval(f, p2);
     const Q a = f1 * p2.w, b = f2 * p1.w;
     const Frac t = frac(a, a - b);
     if (s1 <= 0) {
