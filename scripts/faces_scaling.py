@@ -123,7 +123,7 @@ def write_mesh(hedra, work):
     src = os.path.join(work, "ball.json")
     with open(src, "w") as f:
         json.dump({"version": 1, "bodies": [{"name": "ball", "sphere": {
-            "center": [-1.5, 0, 1.5], "radius": 1.5, "tolerance": 7.5e-6, "max_faces": MAX_FACES}}]}, f)
+            "center": [-1.5, 0, 1.5], "radius": 1.5, "tolerance": 1.5e-5, "max_faces": MAX_FACES}}]}, f)
     polys = os.path.join(work, "ball_polys.off")
     subprocess.run([hedra, "convert", src, polys], check=True, capture_output=True)
     with open(polys) as f:
