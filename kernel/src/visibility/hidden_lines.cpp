@@ -144,7 +144,8 @@ void Roberts::prepare_bodies() {
       HlrBody& bd = data_[b];
       bd.facing.resize(static_cast<size_t>(body.face_count()));
       for (int f = 0; f < body.face_count(); ++f) bd.facing[static_cast<size_t>(f)] = facing(body, f, view_);
-      bd.convex = is_convex(body);
+      // A two-sided face of an open surface is its own convex piece.
+      bd.convex = body.two_sided() || is_convex(body);
       if (bd.convex) {
         per_body[b].pieces.push_back(body);
         continue;
@@ -328,7 +329,8 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     for (int k : body.support(edge.right_face))
       coplanar = coplanar && orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
                                            v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
-    if (coplanar || end_on(p1, p2)) continue;
+    // A two-sided face's edges join its two faces, which share one plane: all are drawn.
+    if ((coplanar && !body.two_sided()) || end_on(p1, p2)) continue;
     ++out.stats.edges;
     // Stage 1: an edge between two back faces is hidden by its own body.
     if (bd.facing[static_cast<size_t>(edge.left_face)] == Facing::Back &&
