@@ -71,7 +71,8 @@ TEST(OpenSurfaceCli, ScanRendersDrawsAndCastsShadows) {
   r = run_hedra("shadows " + scan + " --json " + (dir / "s.json").string());
   ASSERT_EQ(r.code, 0) << r.err;
   double ground_top = 0, scan_self = 0, scan_cast = 0;
-  for (const auto& face : nlohmann::json::parse(read(dir / "s.json"))["lights"][0]["faces"]) {
+  const nlohmann::json parsed1 = nlohmann::json::parse(read(dir / "s.json"));
+  for (const auto& face : parsed1["lights"][0]["faces"]) {
     const std::string body = face["body"];
     // The whole file is a surface: the ground's faces are two-sided too; its top's upper side
     // (face 0, the file's orientation) receives the scan's shadow, the lower side is dark.

@@ -3,7 +3,9 @@
 // the original's results within the rounding of the format. The original is a scene whose camera
 // and light are those a mesh file gets (cli/info.h, load_scene), so that a mesh written from it
 // is seen the same way; it holds a non-convex prism, a box rotated by a generic angle (rounded
-// coordinates) and a cylinder (curved, rounded coordinates).
+// coordinates) and a cylinder (curved, rounded coordinates). The cylinder stands clear of the
+// ground: a curved body standing on another, read from float32 STL with --tolerance, has its
+// base vertices snapped off the contact plane by ulps (a junction line appears; docs/stability.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -25,7 +27,7 @@ const char* kScene = R"({"version": 1, "bodies": [
   {"name": "L", "prism": {"polygon": [[0,0],[4,0],[4,1],[1,1],[1,3],[0,3]], "z": [0, 2]}},
   {"name": "b", "box": {"min": [0, 0, 0], "max": [1.5, 1, 1]},
    "transform": [{"rotate": {"axis": [0.3, 0.5, 1], "deg": 31.7}}, {"translate": [4.5, 2.5, 0.3]}]},
-  {"name": "c", "cylinder": {"radius": 0.6, "z": [0, 1.7], "tolerance": 0.02},
+  {"name": "c", "cylinder": {"radius": 0.6, "z": [0.05, 1.75], "tolerance": 0.02},
    "transform": [{"translate": [2.2, 4.2, 0]}]}],
  "camera": {"projection": "parallel", "direction": [-1, -2, -1.5], "up": [0, 0, 1]},
  "lights": [{"type": "directional", "direction": [-1, -1.5, -3], "intensity": 0.9}]})";
@@ -59,7 +61,8 @@ Results results_of(const fs::path& file, const fs::path& dir, const std::string&
   auto info = run_hedra("info --json " + f);
   EXPECT_EQ(info.code, 0) << file << ": " << info.err;
   if (info.code != 0) return r;
-  for (const auto& b : nlohmann::json::parse(info.out)["bodies"]) {
+  const nlohmann::json info_json = nlohmann::json::parse(info.out);
+  for (const auto& b : info_json["bodies"]) {
     ++r.bodies;
     r.faces += b["faces"].get<int>();
     r.volume += b["volume"].get<double>();
@@ -88,7 +91,8 @@ Results results_of(const fs::path& file, const fs::path& dir, const std::string&
   r.hidden = length(h["hidden"]);
   auto sh = run_hedra("shadows --json " + sj.string() + " " + f);
   EXPECT_EQ(sh.code, 0) << file << ": " << sh.err;
-  for (const auto& face : nlohmann::json::parse(read(sj))["lights"][0]["faces"])
+  const nlohmann::json parsed_face = nlohmann::json::parse(read(sj));
+  for (const auto& face : parsed_face["lights"][0]["faces"])
     (face["self_shadowed"].get<bool>() ? r.self : r.cast) += face["shadow_area"].get<double>();
   // Flat shading: a curved primitive's analytic normals are not part of any mesh format.
   auto rd = run_hedra("render --shading flat --width 240 --height 180 -o " + png.string() + " " + f);
@@ -160,13 +164,18 @@ TEST_F(RoundTrip, OriginalIsNonTrivial) {
   EXPECT_GT(original_->cast, 1);
 }
 
-// Exact formats: coordinates as written by %.17g (or JSON's shortest round trip) read back as
-// the same doubles, so every result is the same up to the order of summation.
+// Exact formats that store polygons: coordinates as written by %.17g (or JSON's shortest round
+// trip) read back as the same doubles, so every result is the same up to the order of summation.
 TEST_F(RoundTrip, Off) { check("r.off", "", "", 1e-12, 0.001); }
 TEST_F(RoundTrip, Obj) { check("r.obj", "", "", 1e-12, 0.001); }
 TEST_F(RoundTrip, Ply) { check("r.ply", "", "", 1e-12, 0.001); }
-TEST_F(RoundTrip, StlAscii) { check("r.stl", "--stl-ascii", "", 1e-12, 0.001); }
 TEST_F(RoundTrip, SceneJson) { check("r.json", "", "", 1e-12, 0.001); }
+
+// ASCII STL keeps the doubles but stores triangles only: the rotated box's quads, planar only
+// within the rounding of the rotation, come back as pairs of triangles that are not exactly
+// coplanar (drawn with their diagonals, one more face each). A --tolerance far below any
+// feature (1e-9) merges them back; results agree to 1e-8.
+TEST_F(RoundTrip, StlAscii) { check("r.stl", "--stl-ascii", "--tolerance 1e-9", 1e-8, 0.001); }
 
 // Binary STL stores float32: coordinates move by up to 2^-24 of their size (≤ 5e-7 here), so
 // the rotated box's and cylinder's faces come back as triangles coplanar only within that; the
