@@ -88,15 +88,17 @@ struct BoxAndSquare {
   Eigen::AlignedBox3d box;
   std::array<Vec3, 4> square;
   Vec3 towards_viewer;  // unit, parallel view
+  std::optional<Vec3> eye;  // perspective view: rays end at the eye (t < 1)
 
   bool blocked(const Vec3& x) const {
-    const Vec3& d = towards_viewer;
+    const Vec3 d = eye ? Vec3(*eye - x) : towards_viewer;
+    const double end = eye ? 1.0 : INFINITY;
     // Square: the ray crosses its plane at a point strictly inside it.
     const Vec3 n = (square[1] - square[0]).cross(square[2] - square[0]);
     const double denom = n.dot(d);
     if (std::abs(denom) > 1e-14) {
       const double t = n.dot(square[0] - x) / denom;
-      if (t > 1e-12) {
+      if (t > 1e-12 && t < end) {
         const Vec3 q = x + t * d;
         bool inside = true;
         for (int k = 0; k < 4; ++k)
@@ -105,7 +107,7 @@ struct BoxAndSquare {
       }
     }
     // Box: the ray's parameter interval inside the open box is not empty and lies ahead.
-    double lo = 1e-12, hi = INFINITY;
+    double lo = 1e-12, hi = end;
     for (int i = 0; i < 3; ++i) {
       if (std::abs(d[i]) < 1e-300) {
         if (!(x[i] > box.min()[i] && x[i] < box.max()[i])) return false;
@@ -142,7 +144,11 @@ struct BoxAndSquare {
 };
 
 TEST(OpenSurfaceHiddenLines, BoxPartlyBehindASquareMatchesRayCasting) {
-  for (const Vec3& dir : {Vec3(-1, -2, -1.5), Vec3(0.3, -1.7, -0.8), Vec3(-0.6, -1.1, 0.45)}) {
+  // Three parallel views, and the same three in perspective from eyes 6 units back.
+  for (int view = 0; view < 6; ++view) {
+    const Vec3 dirs[] = {Vec3(-1, -2, -1.5), Vec3(0.3, -1.7, -0.8), Vec3(-0.6, -1.1, 0.45)};
+    const Vec3 dir = dirs[view % 3];
+    const bool perspective = view >= 3;
     BoxAndSquare ref;
     ref.box = Eigen::AlignedBox3d(Vec3(0, 0, 0), Vec3(1, 1, 1));
     // A tilted square between the viewer and the box, covering part of it.
@@ -151,6 +157,8 @@ TEST(OpenSurfaceHiddenLines, BoxPartlyBehindASquareMatchesRayCasting) {
     const Vec3 w = dir.normalized().cross(u).normalized() * 0.45 + 0.1 * dir.normalized();
     ref.square = {c - u - w, c + u - w, c + u + w, c - u + w};
     ref.towards_viewer = -dir.normalized();
+    const Vec3 eye = Vec3(0.5, 0.5, 0.5) - 6 * dir.normalized();
+    if (perspective) ref.eye = eye;
     // Rounded corners may not be exactly coplanar: the square is given as two triangles.
     PolygonSoup soup;
     soup.vertices = {ref.square[0], ref.square[1], ref.square[2], ref.square[3]};
@@ -160,7 +168,7 @@ TEST(OpenSurfaceHiddenLines, BoxPartlyBehindASquareMatchesRayCasting) {
     scene.add("box", cube);
     const std::vector<Body> faces = two_sided_faces(soup);
     for (size_t i = 0; i < faces.size(); ++i) scene.add("square" + std::to_string(i), faces[i]);
-    scene.camera = Camera::parallel(dir);
+    scene.camera = perspective ? Camera::perspective(eye, Vec3(0.5, 0.5, 0.5), 60) : Camera::parallel(dir);
     HlrOptions options;
     options.junctions = false;
     const HlrResult result = hidden_lines(scene, options);
@@ -173,12 +181,12 @@ TEST(OpenSurfaceHiddenLines, BoxPartlyBehindASquareMatchesRayCasting) {
       for (const HlrSegment& s : result.visible)
         if (s.body == 0 && s.edge == e) got += (s.b - s.a).norm();
       const double want = ref.visible_length(p, q);
-      EXPECT_NEAR(got, want, 1e-9) << "edge " << e << " dir " << dir.transpose();
+      EXPECT_NEAR(got, want, 1e-9) << "edge " << e << " view " << view;
       BoxAndSquare alone = ref;
-      alone.square = {Vec3(9, 9, 9), Vec3(9, 9, 9), Vec3(9, 9, 9), Vec3(9, 9, 9)};
+      alone.square = {Vec3(99, 99, 99), Vec3(99, 99, 99), Vec3(99, 99, 99), Vec3(99, 99, 99)};
       hidden_by_square += alone.visible_length(p, q) - want;
     }
-    EXPECT_GT(hidden_by_square, 0.1) << "the square hides part of the box";
+    EXPECT_GT(hidden_by_square, 0.1) << "the square hides part of the box, view " << view;
     // The square's own edges: in front of the box, so wholly visible (two triangles merged
     // into one face when coplanar; a rounded diagonal is visible too).
     double square_visible = 0, square_edges = 0;
