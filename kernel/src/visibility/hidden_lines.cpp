@@ -153,12 +153,14 @@ void Roberts::prepare_bodies() {
       HlrBody& bd = data_[b];
       bd.facing.resize(static_cast<size_t>(body.face_count()));
       for (int f = 0; f < body.face_count(); ++f) bd.facing[static_cast<size_t>(f)] = facing(body, f, view_);
-      // Line classes: O(E) in double (a drawing construction, not a decision).
-      if (options_.crease_angle > 0) {
+      // Line classes: O(E) in double (a drawing construction, not a decision). A two-sided
+      // face of an open surface has only its own boundary: every edge is drawn.
+      if (options_.crease_angle > 0 && !body.two_sided()) {
         bd.classes = classify_edges(body, options_.crease_angle, surface(static_cast<int>(b)));
         bd.any_smooth = std::find(bd.classes.begin(), bd.classes.end(), EdgeClass::Smooth) != bd.classes.end();
       }
-      bd.convex = is_convex(body);
+      // A two-sided face of an open surface is its own convex piece.
+      bd.convex = body.two_sided() || is_convex(body);
       if (bd.convex) {
         per_body[b].pieces.push_back(body);
         continue;
@@ -414,7 +416,8 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     for (int k : body.support(edge.right_face))
       coplanar = coplanar && orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
                                            v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
-    if (coplanar || end_on(p1, p2)) continue;
+    // A two-sided face's edges join its two faces, which share one plane: all are drawn.
+    if ((coplanar && !body.two_sided()) || end_on(p1, p2)) continue;
     // A smooth edge is drawn only when asked, as its own kind.
     const bool smooth = !bd.classes.empty() && bd.classes[static_cast<size_t>(e)] == EdgeClass::Smooth;
     if (smooth) {
