@@ -9,6 +9,8 @@
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/scene_json.h"
 #include "hedra/mesh/convexity.h"
+#include "hedra/core/error.h"
+#include "hedra/mesh/open_surface.h"
 
 namespace hedra::cli {
 namespace {
@@ -176,7 +178,36 @@ void print_open_surface(std::ostream& out, const OpenSurface& s, bool json) {
 Scene load_scene(const std::string& path) {
   if (io::is_scene_path(path)) return io::read_scene(path, import_tolerance);
   Scene scene;
-  for (const NamedBody& nb : load_bodies(path)) scene.add(nb.name, nb.body);
+  std::vector<NamedBody> bodies;
+  try {
+    bodies = load_bodies(path);
+  } catch (const InvalidInput&) {
+    // An open surface (a scan, a terrain, a single face) is not a solid, but hidden lines,
+    // shadows and rendering take it as two-sided convex faces (hedra/mesh/open_surface.h),
+    // one scene body per face, named <stem>.f<i>.
+    // Taken as a surface when it has boundary edges and each directed edge once (consistently
+    // oriented, no edge shared by three faces); a flipped face of a solid stays an error.
+    const PolygonSoup soup = io::read_soup(path);
+    std::set<std::pair<int, int>> directed;
+    bool consistent = true;
+    for (const auto& poly : soup.polygons)
+      for (size_t i = 0; i < poly.size(); ++i) {
+        const int a = poly[i], b = poly[(i + 1) % poly.size()];
+        if (a < 0 || b < 0 || static_cast<size_t>(std::max(a, b)) >= soup.vertices.size()) throw;
+        consistent = directed.emplace(a, b).second && consistent;
+      }
+    if (!consistent || surface_boundary(soup).boundary_edges == 0) throw;
+    std::vector<Body> faces;
+    try {
+      faces = two_sided_faces(soup);
+    } catch (const InvalidInput& inner) {
+      throw InvalidInput(path + ": open surface: " + inner.what());
+    }
+    const std::string stem = std::filesystem::path(path).stem().string();
+    for (size_t i = 0; i < faces.size(); ++i)
+      bodies.push_back({stem + ".f" + std::to_string(i), faces[i], ""});
+  }
+  for (const NamedBody& nb : bodies) scene.add(nb.name, nb.body);
   scene.camera = Camera::parallel({-1, -2, -1.5}, {0, 0, 1});
   scene.lights.push_back(Light::directional({-1, -1.5, -3}, 0.9));
   return scene;

@@ -155,9 +155,10 @@ int main(int argc, char** argv) {
       std::vector<hedra::Body> bodies;
       for (const auto& nb : named) bodies.push_back(nb.body);
       if (to_scene) {
-        hedra::Scene scene;
-        for (const auto& nb : named) scene.add(nb.name, nb.body);
-        hedra::io::write_scene(scene, convert_out);
+        // The scene as hlr, shadows and render see it (a scene file's camera, lights and
+        // materials; a mesh file's default view and light), so the converted file gives the
+        // same results (docs/io.md, "Round trips").
+        hedra::io::write_scene(hedra::cli::load_scene(convert_in), convert_out);
       } else {
         hedra::io::WriteOptions options;
         options.stl_ascii = stl_ascii;

@@ -29,6 +29,7 @@ struct Body::Impl {
   double volume = 0;
   double area = 0;
   Vec3 centroid = Vec3::Zero();
+  bool two_sided = false;
 };
 
 namespace {
@@ -92,7 +93,8 @@ void check_faces(const std::vector<Face>& faces, size_t vertex_count) {
 }
 
 // Stage: orientation, closedness, manifold vertices; builds the edge list.
-std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_count) {
+std::vector<Edge> check_topology(const std::vector<Face>& faces, const std::vector<Vec3>& vertices) {
+  const size_t vertex_count = vertices.size();
   // Half-edges h in traversal order (face, loop, position), grouped by their start vertex and
   // sorted by end vertex inside each group (counting sort, then a sort of each small group):
   // finding a directed edge is a binary search among the edges leaving one vertex. Cost
@@ -181,7 +183,8 @@ std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_c
   if (boundary > 0)
     throw InvalidInput("not closed: " + str(boundary) + " boundary edge" +
                        (boundary > 1 ? "s" : "") + ", first between vertices " + str(bound_a) +
-                       " and " + str(bound_b));
+                       " " + vec(vertices[static_cast<size_t>(bound_a)]) + " and " + str(bound_b) +
+                       " " + vec(vertices[static_cast<size_t>(bound_b)]));
 
   // Manifold vertices: the corners around each vertex form one cycle. The corner at the start
   // of half-edge h (v → w, entered by prev(h) = u → v) is followed around v by the corner of
@@ -218,7 +221,7 @@ double body_scale(const std::vector<Vec3>& vertices, const Eigen::AlignedBox3d& 
 void check_polygon_mesh(const std::vector<Vec3>& vertices, const std::vector<Face>& faces) {
   check_vertices(vertices);
   check_faces(faces, vertices.size());
-  check_topology(faces, vertices.size());
+  check_topology(faces, vertices);
 }
 
 Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOptions& options) {
@@ -226,7 +229,7 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   // Stage: combinatorial validation.
   check_vertices(vertices);
   check_faces(faces, vertices.size());
-  impl->edges = check_topology(faces, vertices.size());
+  impl->edges = check_topology(faces, vertices);
 
   impl->bbox.setEmpty();
   for (const Vec3& p : vertices) impl->bbox.extend(p);
@@ -435,7 +438,78 @@ Body Body::transformed(const Transform& t) const {
   if (t.matrix().determinant() < 0)
     for (Face& face : faces)
       for (auto& loop : face.loops) std::reverse(loop.begin(), loop.end());
+  if (impl_->two_sided) {
+    std::vector<Vec3> polygon;
+    for (int v : faces[0].loops[0]) polygon.push_back(moved[static_cast<size_t>(v)]);
+    return two_sided_polygon(std::move(polygon));
+  }
   return Body(std::move(moved), std::move(faces));
+}
+
+bool Body::two_sided() const { return impl_->two_sided; }
+
+Body Body::two_sided_polygon(std::vector<Vec3> polygon) {
+  const int n = static_cast<int>(polygon.size());
+  if (n < 3) throw InvalidInput("a two-sided face needs at least 3 vertices, got " + str(n));
+  for (int i = 0; i < n; ++i) {
+    const Vec3& p = polygon[static_cast<size_t>(i)];
+    if (!p.allFinite()) throw InvalidInput("vertex " + str(i) + " has a non-finite coordinate " + vec(p));
+    if (p.cwiseAbs().maxCoeff() > kMaxAbsCoordinate)
+      throw InvalidInput("vertex " + str(i) + " has a coordinate beyond ±" + fmt(kMaxAbsCoordinate));
+  }
+  auto impl = std::make_shared<Impl>();
+  impl->two_sided = true;
+  std::vector<int> outer(static_cast<size_t>(n)), inner(static_cast<size_t>(n));
+  std::iota(outer.begin(), outer.end(), 0);
+  std::reverse_copy(outer.begin(), outer.end(), inner.begin());
+  const Vec3 outward = newell_normal(polygon, outer);
+  const std::array<int, 3> s = support_triple(polygon, outer, outward);
+  if (s[2] < 0 || collinear(polygon[static_cast<size_t>(s[0])], polygon[static_cast<size_t>(s[1])],
+                            polygon[static_cast<size_t>(s[2])]))
+    throw InvalidInput("a two-sided face has zero area (its vertices are collinear)");
+  // Exact: planar, and every corner turns the same way as the support triple (strictly convex).
+  const Vec3 &a = polygon[static_cast<size_t>(s[0])], &b = polygon[static_cast<size_t>(s[1])],
+             &c = polygon[static_cast<size_t>(s[2])];
+  // A point well off the plane on the outward side (rounded: only its exact side matters).
+  const Vec3 lift = a + outward.normalized() * (a.cwiseAbs().maxCoeff() + (b - a).norm() + 1);
+  const Sign up = orient3d(a, b, c, lift);
+  for (int i = 0; i < n; ++i) {
+    const Vec3& p = polygon[static_cast<size_t>(i)];
+    if (orient3d(a, b, c, p) != Sign::Zero)
+      throw InvalidInput("a two-sided face is not planar: vertex " + str(i) + " is off its plane");
+    const Vec3& q = polygon[static_cast<size_t>((i + 1) % n)];
+    const Vec3& r = polygon[static_cast<size_t>((i + 2) % n)];
+    // The corner at q turns like (a, b, c): lift lies on the same side of (p, q, r).
+    if (up == Sign::Zero || orient3d(p, q, r, lift) != up)
+      throw InvalidInput("a two-sided face is not strictly convex at vertex " + str((i + 1) % n));
+  }
+  const double length = outward.norm();
+  const Vec3 unit = outward / length;
+  Vec3 centre = Vec3::Zero();
+  for (const Vec3& p : polygon) centre += p;
+  centre /= static_cast<double>(n);
+  impl->faces = {Face(outer), Face(inner)};
+  impl->planes = {Plane::through(centre, -unit), Plane::through(centre, unit)};
+  impl->supports = {s, {s[2], s[1], s[0]}};
+  impl->face_areas = {length / 2, length / 2};
+  impl->matrix.resize(4, 2);
+  for (int f = 0; f < 2; ++f) {
+    impl->planes[static_cast<size_t>(f)].coefficients.array() += 0.0;
+    impl->matrix.col(f) = impl->planes[static_cast<size_t>(f)].coefficients;
+  }
+  for (int i = 0; i < n; ++i) impl->edges.push_back({i, (i + 1) % n, 0, 1});
+  for (int i = 1; i + 1 < n; ++i) {
+    impl->triangles.push_back({{0, i, i + 1}, 0});
+    impl->triangles.push_back({{0, i + 1, i}, 1});
+  }
+  impl->bbox.setEmpty();
+  for (const Vec3& p : polygon) impl->bbox.extend(p);
+  impl->scale = body_scale(polygon, impl->bbox);
+  impl->area = length;
+  impl->volume = 0;
+  impl->centroid = centre;
+  impl->vertices = std::move(polygon);
+  return Body(std::shared_ptr<const Impl>(std::move(impl)));
 }
 
 BodyMatrix sign_by_interior_point(BodyMatrix planes, const Vec3& s) {

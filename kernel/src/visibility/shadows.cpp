@@ -101,7 +101,7 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     for (int f = 0; f < bd.body.face_count(); ++f) bd.faces.push_back(make_face(bd.body, f));
     std::vector<ExactPlane> planes;
     for (const ShadowFace& fd : bd.faces) planes.push_back(fd.plane);
-    bd.convex = is_convex(bd.body);
+    bd.convex = bd.body.two_sided() || is_convex(bd.body);  // a two-sided face: one piece
     if (bd.convex) {
       pieces[b].push_back(bd.body);
       piece_planes[b].push_back(std::move(planes));

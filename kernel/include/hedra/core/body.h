@@ -119,8 +119,23 @@ class Body {
     return transformed(Transform::rotation_z(degrees, centre));
   }
 
+  /// A two-sided face of an open surface (a scan, a terrain, a single face): the convex
+  /// polygon `polygon` as a flat, closed body of two faces, face 0 running the given way
+  /// (counter-clockwise seen from the side its right-hand normal points to) and face 1 the
+  /// other way, with edge i from polygon[i] to polygon[i+1]. Seen from any point off its
+  /// plane exactly one face is Front, so it occludes, receives shadows on the side facing a
+  /// light, and is drawn two-sided by hidden lines, shadows and rendering, whose convex-piece
+  /// code takes it as its own piece; decomposition and clipping reject it (it has no
+  /// interior). volume() is 0, area() twice the polygon's area, classify() never says Inside.
+  /// 	hrow InvalidInput unless the polygon has ≥ 3 finite vertices, is exactly planar and
+  ///   strictly convex (no three consecutive vertices collinear). Cost O(n).
+  static Body two_sided_polygon(std::vector<Vec3> polygon);
+  /// True for two_sided_polygon() bodies.
+  bool two_sided() const;
+
  private:
   struct Impl;
+  explicit Body(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
   std::shared_ptr<const Impl> impl_;
 };
 

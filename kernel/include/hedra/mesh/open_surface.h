@@ -1,0 +1,41 @@
+// Open surfaces (scans, terrains, single faces): meshes with boundary edges, which are not
+// solids, taken by hidden lines, shadows and rendering as sets of two-sided convex faces.
+//
+// A convex planar polygon seen from a point off its plane hides exactly the open region behind
+// it inside the planes through its edges and the point: the occlusion volume of a flat convex
+// body whose one face turns to the point (hedra/visibility/occlusion.h). So each face of an
+// open surface becomes a Body::two_sided_polygon(): it occludes and casts shadows like a
+// convex piece, receives shadows on the side facing a light (the other side is self-shadowed)
+// and is rasterized on the side facing the camera. Edges between faces of a surface that are
+// not exactly coplanar, and its boundary edges, are drawn as sharp edges.
+#pragma once
+
+#include <vector>
+
+#include "hedra/core/body.h"
+#include "hedra/mesh/merge_coplanar.h"
+
+namespace hedra {
+
+/// Counts of an open surface's soup: edges, boundary edges (directed edges whose reverse is
+/// absent) and the first of them, as (from, to) vertex ids of the file.
+struct SurfaceBoundary {
+  int edges = 0;
+  int boundary_edges = 0;
+  int first_from = -1, first_to = -1;
+};
+/// \pre every index in range. Cost O(E log E).
+SurfaceBoundary surface_boundary(const PolygonSoup& soup);
+
+/// The faces of an open surface as two-sided convex faces, in soup order. A polygon that is
+/// exactly planar and strictly convex is kept whole; any other (non-convex, not planar, with
+/// collinear corners) is triangulated in its Newell plane and its triangles are merged back
+/// greedily into convex polygons while they stay exactly coplanar and strictly convex, so that
+/// no drawn edge is an artefact of the triangulation between exactly coplanar triangles.
+/// Exactly coplanar neighbouring faces of the soup are merged the same way (a flat region given
+/// as triangles is drawn without its diagonals). Zero-area triangles are dropped.
+/// \throw InvalidInput naming the polygon when one cannot be triangulated (self-crossing), or
+///   when no face has non-zero area. Cost O(F log F + n) for F faces of n vertices in all.
+std::vector<Body> two_sided_faces(const PolygonSoup& soup);
+
+}  // namespace hedra

@@ -1,0 +1,286 @@
+// Open surfaces (hedra/mesh/open_surface.h): two-sided faces that occlude, receive and cast
+// shadows and render, checked against independent references: ray casting of edge samples
+// (hidden lines), CGAL's exact union of the triangles projected along the light (shadows), the
+// projected area in pixels (rendering).
+#include "hedra/mesh/open_surface.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <optional>
+
+#include "hedra/core/error.h"
+#include "hedra/core/primitives.h"
+#include "hedra/render/raster.h"
+#include "hedra/visibility/polygon_set.h"
+#include "hedra/visibility/roberts.h"
+#include "hedra/visibility/shadows.h"
+
+namespace hedra {
+namespace {
+
+// ---- Two-sided faces ----
+
+TEST(TwoSidedPolygon, IsAFlatBodyOfTwoOppositeFaces) {
+  const Body f = Body::two_sided_polygon({{0, 0, 1}, {2, 0, 1}, {2, 2, 1}, {0, 2, 1}});
+  EXPECT_TRUE(f.two_sided());
+  EXPECT_EQ(f.face_count(), 2);
+  EXPECT_EQ(f.edge_count(), 4);
+  EXPECT_DOUBLE_EQ(f.face_area(0), 4);
+  EXPECT_DOUBLE_EQ(f.face_area(1), 4);
+  EXPECT_EQ(f.volume(), 0);
+  // Face 0 runs counter-clockwise seen from +z: its inner normal points down.
+  EXPECT_NEAR(f.inner_normal(0).z(), -1, 1e-15);
+  EXPECT_NEAR(f.inner_normal(1).z(), 1, 1e-15);
+  // From either side exactly one face is Front.
+  for (const Vec3& d : {Vec3(0.1, 0.2, -1), Vec3(0.3, -0.1, 1)}) {
+    const Viewpoint v = Viewpoint::towards(d);
+    EXPECT_NE(facing(f, 0, v) == Facing::Front, facing(f, 1, v) == Facing::Front);
+  }
+  EXPECT_FALSE(box({0, 0, 0}, {1, 1, 1}).two_sided());
+  // Moved, it stays two-sided (a reflection keeps face 0 the given polygon's way round).
+  const Body m = f.rotated_x(30).scaled({-1, 1, 1});
+  EXPECT_TRUE(m.two_sided());
+  EXPECT_NEAR(m.face_area(0), 4, 1e-12);
+}
+
+TEST(TwoSidedPolygon, RejectsNonConvexNonPlanarAndDegeneratePolygons) {
+  EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}}), InvalidInput);
+  EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}}), InvalidInput);
+  EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {2, 0, 0}, {1, 0.5, 0}, {2, 2, 0}, {0, 2, 0}}),
+               InvalidInput);  // reflex corner
+  EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 1e-9}, {0, 1, 0}}),
+               InvalidInput);  // not planar
+  EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1, 0}}),
+               InvalidInput);  // collinear corner
+}
+
+TEST(TwoSidedFaces, KeepsConvexPolygonsMergesCoplanarTrianglesSplitsTheRest) {
+  PolygonSoup soup;
+  soup.vertices = {{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {1, 1, 1}, {3, 1, 0.5}};
+  // A flat square given as two triangles, and a non-planar quad hanging off its edge 1–2.
+  soup.polygons = {{0, 1, 2}, {0, 2, 3}, {1, 5, 4, 2}};
+  const std::vector<Body> faces = two_sided_faces(soup);
+  double area = 0;
+  int squares = 0;
+  for (const Body& f : faces) {
+    area += f.face_area(0);
+    squares += f.vertex_count() == 4 && std::abs(f.face_area(0) - 4) < 1e-15;
+  }
+  EXPECT_EQ(squares, 1);  // the two coplanar triangles merged back into the square
+  EXPECT_EQ(faces.size(), 3u);  // the non-planar quad as its two triangles
+  const auto tri = [&](int a, int b, int c) {
+    return 0.5 * (soup.vertices[b] - soup.vertices[a]).cross(soup.vertices[c] - soup.vertices[a]).norm();
+  };
+  const double quad = std::min(tri(1, 5, 4) + tri(1, 4, 2), tri(1, 5, 2) + tri(5, 4, 2));
+  const double other = std::max(tri(1, 5, 4) + tri(1, 4, 2), tri(1, 5, 2) + tri(5, 4, 2));
+  EXPECT_TRUE(std::abs(area - 4 - quad) < 1e-12 || std::abs(area - 4 - other) < 1e-12) << area;
+  const SurfaceBoundary boundary = surface_boundary(soup);
+  EXPECT_EQ(boundary.edges, 8);
+  EXPECT_EQ(boundary.boundary_edges, 6);
+}
+
+// ---- Hidden lines: a box partly behind a single square face ----
+
+// Brute-force reference: is the ray from x towards the viewer blocked by the open square or
+// the open interior of the box? Double arithmetic, for scenes in general position.
+struct BoxAndSquare {
+  Eigen::AlignedBox3d box;
+  std::array<Vec3, 4> square;
+  Vec3 towards_viewer;  // unit, parallel view
+  std::optional<Vec3> eye;  // perspective view: rays end at the eye (t < 1)
+
+  bool blocked(const Vec3& x) const {
+    const Vec3 d = eye ? Vec3(*eye - x) : towards_viewer;
+    const double end = eye ? 1.0 : INFINITY;
+    // Square: the ray crosses its plane at a point strictly inside it.
+    const Vec3 n = (square[1] - square[0]).cross(square[2] - square[0]);
+    const double denom = n.dot(d);
+    if (std::abs(denom) > 1e-14) {
+      const double t = n.dot(square[0] - x) / denom;
+      if (t > 1e-12 && t < end) {
+        const Vec3 q = x + t * d;
+        bool inside = true;
+        for (int k = 0; k < 4; ++k)
+          inside = inside && (square[(k + 1) % 4] - square[k]).cross(q - square[k]).dot(n) > 1e-12;
+        if (inside) return true;
+      }
+    }
+    // Box: the ray's parameter interval inside the open box is not empty and lies ahead.
+    double lo = 1e-12, hi = end;
+    for (int i = 0; i < 3; ++i) {
+      if (std::abs(d[i]) < 1e-300) {
+        if (!(x[i] > box.min()[i] && x[i] < box.max()[i])) return false;
+        continue;
+      }
+      double a = (box.min()[i] - x[i]) / d[i], b = (box.max()[i] - x[i]) / d[i];
+      if (a > b) std::swap(a, b);
+      lo = std::max(lo, a), hi = std::min(hi, b);
+    }
+    return hi - lo > 1e-9;
+  }
+
+  // Visible length of segment p q: 2000 samples at cell centres, transitions bisected.
+  double visible_length(const Vec3& p, const Vec3& q) const {
+    const int n = 2000;
+    const auto at = [&](double t) { return Vec3(p + t * (q - p)); };
+    double visible = 0, from = 0;
+    bool state = blocked(at(0.5 / n));
+    for (int k = 1; k < n; ++k) {
+      const double prev = (k - 0.5) / n, t = (k + 0.5) / n;
+      if (blocked(at(t)) == state) continue;
+      double lo = prev, hi = t;
+      for (int it = 0; it < 60; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (blocked(at(mid)) == state ? lo : hi) = mid;
+      }
+      if (!state) visible += lo - from;
+      from = lo;
+      state = !state;
+    }
+    if (!state) visible += 1 - from;
+    return visible * (q - p).norm();
+  }
+};
+
+TEST(OpenSurfaceHiddenLines, BoxPartlyBehindASquareMatchesRayCasting) {
+  // Three parallel views, and the same three in perspective from eyes 6 units back.
+  for (int view = 0; view < 6; ++view) {
+    const Vec3 dirs[] = {Vec3(-1, -2, -1.5), Vec3(0.3, -1.7, -0.8), Vec3(-0.6, -1.1, 0.45)};
+    const Vec3 dir = dirs[view % 3];
+    const bool perspective = view >= 3;
+    BoxAndSquare ref;
+    ref.box = Eigen::AlignedBox3d(Vec3(0, 0, 0), Vec3(1, 1, 1));
+    // A tilted square between the viewer and the box, covering part of it.
+    const Vec3 c = Vec3(0.7, 0.55, 0.6) - 0.9 * dir.normalized();
+    const Vec3 u = dir.cross(Vec3(0.2, 0.3, 1)).normalized() * 0.45;
+    const Vec3 w = dir.normalized().cross(u).normalized() * 0.45 + 0.1 * dir.normalized();
+    ref.square = {c - u - w, c + u - w, c + u + w, c - u + w};
+    ref.towards_viewer = -dir.normalized();
+    const Vec3 eye = Vec3(0.5, 0.5, 0.5) - 6 * dir.normalized();
+    if (perspective) ref.eye = eye;
+    // Rounded corners may not be exactly coplanar: the square is given as two triangles.
+    PolygonSoup soup;
+    soup.vertices = {ref.square[0], ref.square[1], ref.square[2], ref.square[3]};
+    soup.polygons = {{0, 1, 2}, {0, 2, 3}};
+    Scene scene;
+    const Body cube = box({0, 0, 0}, {1, 1, 1});
+    scene.add("box", cube);
+    const std::vector<Body> faces = two_sided_faces(soup);
+    for (size_t i = 0; i < faces.size(); ++i) scene.add("square" + std::to_string(i), faces[i]);
+    scene.camera = perspective ? Camera::perspective(eye, Vec3(0.5, 0.5, 0.5), 60) : Camera::parallel(dir);
+    HlrOptions options;
+    options.junctions = false;
+    const HlrResult result = hidden_lines(scene, options);
+    // Every box edge: hedra's visible length against the reference's.
+    double hidden_by_square = 0;
+    for (int e = 0; e < cube.edge_count(); ++e) {
+      const Edge& edge = cube.edges()[static_cast<size_t>(e)];
+      const Vec3 &p = cube.vertices()[edge.v0], &q = cube.vertices()[edge.v1];
+      double got = 0;
+      for (const HlrSegment& s : result.visible)
+        if (s.body == 0 && s.edge == e) got += (s.b - s.a).norm();
+      const double want = ref.visible_length(p, q);
+      EXPECT_NEAR(got, want, 1e-9) << "edge " << e << " view " << view;
+      BoxAndSquare alone = ref;
+      alone.square = {Vec3(99, 99, 99), Vec3(99, 99, 99), Vec3(99, 99, 99), Vec3(99, 99, 99)};
+      hidden_by_square += alone.visible_length(p, q) - want;
+    }
+    EXPECT_GT(hidden_by_square, 0.1) << "the square hides part of the box, view " << view;
+    // The square's own edges: in front of the box, so wholly visible (two triangles merged
+    // into one face when coplanar; a rounded diagonal is visible too).
+    double square_visible = 0, square_edges = 0;
+    for (const HlrSegment& s : result.visible)
+      if (s.body >= 1) square_visible += (s.b - s.a).norm();
+    for (int k = 0; k < 4; ++k) square_edges += (ref.square[(k + 1) % 4] - ref.square[k]).norm();
+    if (faces.size() == 1) EXPECT_NEAR(square_visible, square_edges, 1e-12);
+    else EXPECT_GE(square_visible, square_edges - 1e-12);
+  }
+}
+
+// ---- Shadows: a terrain-like open grid over a ground slab ----
+
+TEST(OpenSurfaceShadows, TerrainShadowOnGroundEqualsCgalUnionOfProjectedTriangles) {
+  const int n = 6;
+  PolygonSoup soup;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = 4.0 * i / n, y = 4.0 * j / n;
+      soup.vertices.emplace_back(x, y, 1.5 + 0.4 * std::sin(1.3 * x) * std::cos(y));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const int a = j * (n + 1) + i;
+      soup.polygons.push_back({a, a + 1, a + n + 2});
+      soup.polygons.push_back({a, a + n + 2, a + n + 1});
+    }
+  const std::vector<Body> faces = two_sided_faces(soup);
+  for (const Vec3& d : {Vec3(0.35, 0.2, -1), Vec3(-0.5, 0.3, -0.8), Vec3(0.1, -0.7, -0.6)}) {
+    Scene scene;
+    scene.add("ground", box({-6, -6, -1}, {10, 10, 0}));
+    for (size_t i = 0; i < faces.size(); ++i) scene.add("t" + std::to_string(i), faces[i]);
+    scene.lights = {Light::directional(d)};
+    const ShadowResult r = compute_shadows(scene);
+    int top = -1;
+    const Body& ground = scene.get("ground").body;
+    for (int f = 0; f < ground.face_count(); ++f)
+      if (ground.inner_normal(f).z() < -0.5) top = f;
+    const double got = r.face(0, 0, top).shadow_area;
+    // Reference: the triangles projected onto z = 0 along d, united exactly by CGAL.
+    std::vector<Ring2> rings;
+    for (const auto& t : soup.polygons) {
+      Ring2 ring;
+      for (int v : t) {
+        const Vec3& p = soup.vertices[static_cast<size_t>(v)];
+        const Vec3 q = p - (p.z() / d.z()) * d;
+        ring.emplace_back(q.x(), q.y());
+      }
+      rings.push_back(ring);
+    }
+    const double want = cgal_union(rings, false).area;
+    EXPECT_NEAR(got, want, 1e-9 * want) << d.transpose();
+    EXPECT_GT(want, 15);
+    // Each terrain face: the side turned to the light receives, the other is self-shadowed.
+    for (size_t i = 0; i < faces.size(); ++i) {
+      const FaceShadow& f0 = r.face(0, static_cast<int>(i) + 1, 0);
+      const FaceShadow& f1 = r.face(0, static_cast<int>(i) + 1, 1);
+      EXPECT_NE(f0.self_shadowed(), f1.self_shadowed());
+    }
+  }
+}
+
+// ---- Rendering: a single face covers its projected area, from either side ----
+
+TEST(OpenSurfaceRender, SquareCoversItsProjectedPixelsFromBothSides) {
+  const Body square = Body::two_sided_polygon({{0, 0, 0}, {2, 0, 0}, {2, 1.5, 0.5}, {0, 1.5, 0.5}});
+  for (const Vec3& dir : {Vec3(0.3, 0.4, -1), Vec3(-0.2, -0.3, 1)}) {
+    Scene scene;
+    scene.add("square", square);
+    scene.camera = Camera::parallel(dir);
+    scene.lights = {Light::directional(Vec3(0.1, 0.2, dir.z() < 0 ? -1 : 1))};
+    RenderOptions options;
+    options.width = 200, options.height = 160;
+    SampleRecord record;
+    render(scene, options, &record);
+    int covered = 0, face = -1;
+    for (size_t s = 0; s < record.body.size(); ++s)
+      if (record.body[s] == 0) ++covered, face = record.face[s];
+    // Projected area in pixels (shoelace) and perimeter: coverage within half a pixel row along
+    // the outline.
+    double area = 0, perimeter = 0;
+    const auto& v = square.vertices();
+    for (size_t k = 0; k < v.size(); ++k) {
+      const Eigen::Vector2d a = record.view.project(v[k]), b = record.view.project(v[(k + 1) % v.size()]);
+      area += a.x() * b.y() - a.y() * b.x();
+      perimeter += (b - a).norm();
+    }
+    area = std::abs(area) / 2;
+    EXPECT_GT(area, 1000);
+    EXPECT_NEAR(covered, area, perimeter) << dir.transpose();
+    // The face turned to the camera is the one drawn: face 0 from above, face 1 from below.
+    EXPECT_EQ(face, dir.z() < 0 ? 0 : 1);
+  }
+}
+
+}  // namespace
+}  // namespace hedra
