@@ -182,8 +182,8 @@ TEST(ExtremeScaleCliClip, SegmentFromMinus1e70To1e70) {
   std::vector<std::string> lines;
   while (std::getline(in3, line)) lines.push_back(line);
   ASSERT_EQ(lines.size(), 4u);
-  EXPECT_EQ(lines[0], "-1e+70 0 0 -1 0 0 1");
-  EXPECT_EQ(lines[1], "1 0 0 1e+70 0 0 1");
+  EXPECT_EQ(lines[0], "-1.0000000000000001e+70 0 0 -1 0 0 1");  // %.17g of the double 1e70
+  EXPECT_EQ(lines[1], "1 0 0 1.0000000000000001e+70 0 0 1");
 }
 
 }  // namespace
