@@ -189,7 +189,8 @@ def replace_perturbation(results, docs):
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
     lines.insert(1, f"This section alone was rerun on {datetime.date.today().isoformat()} at commit "
                     f"{commit or 'unknown'} (`scripts/run-bench.sh --perturbation`, machine as above; "
-                    f"{'quick' if os.environ.get('HEDRA_BENCH_QUICK') else 'full'} run).")
+                    f"{'quick' if os.environ.get('HEDRA_BENCH_QUICK') else 'full'} run; times are wall-clock, load average "
+                    f"{os.getloadavg()[0]:.1f} on this machine when the run ended).")
     path = os.path.join(docs, "benchmarks.md")
     with open(path) as f:
         page = f.read().split("\n")
