@@ -3,6 +3,7 @@
 #include "hedra/visibility/roberts.h"
 
 #include "hedra/clip/cyrus_beck.h"
+#include "hedra/core/error.h"
 #include "visibility/roberts_internal.h"
 
 namespace hedra {
@@ -35,6 +36,23 @@ double HlrResult::length(LineKind kind, bool visible_parts) const {
   return sum;
 }
 
+double HlrResult::picture_length(LineKind kind) const {
+  double sum = 0;
+  for (const HlrSegment& s : visible)
+    if (s.kind == kind) sum += (s.b2 - s.a2).norm();
+  return sum;
+}
+
+namespace {
+
+void check_options(const HlrOptions& options) {
+  if (!(options.crease_angle >= 0 && options.crease_angle <= 180))
+    throw InvalidInput("crease angle " + std::to_string(options.crease_angle) +
+                       " is outside 0..180 degrees");
+}
+
+}  // namespace
+
 std::optional<HiddenPart> hidden_part(const OcclusionVolume& volume, const Vec3& p1,
                                       const Vec3& p2) {
   if (!volume.clipper) return std::nullopt;
@@ -44,19 +62,31 @@ std::optional<HiddenPart> hidden_part(const OcclusionVolume& volume, const Vec3&
 }
 
 HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera, const HlrOptions& options) {
+  return hidden_lines(bodies, {}, camera, options);
+}
+
+HlrResult hidden_lines(std::span<const Body> bodies, std::span<const SmoothSurface> surfaces,
+                       const Camera& camera, const HlrOptions& options) {
   camera.validate();
-  return internal::Roberts(bodies, {}, camera, options).run();
+  check_options(options);
+  if (!surfaces.empty() && surfaces.size() != bodies.size())
+    throw InvalidInput("hidden lines: " + std::to_string(surfaces.size()) + " surfaces for " +
+                       std::to_string(bodies.size()) + " bodies");
+  return internal::Roberts(bodies, {}, surfaces, camera, options).run();
 }
 
 HlrResult hidden_lines(const Scene& scene, const HlrOptions& options) {
   std::vector<Body> bodies;
   std::vector<std::string> names;
+  std::vector<SmoothSurface> surfaces;
   for (const SceneBody* b : scene.visible_bodies()) {
     bodies.push_back(b->body);
     names.push_back(b->name);
+    surfaces.push_back(b->surface);
   }
   scene.camera.validate();
-  return internal::Roberts(bodies, names, scene.camera, options).run();
+  check_options(options);
+  return internal::Roberts(bodies, names, surfaces, scene.camera, options).run();
 }
 
 }  // namespace hedra
