@@ -282,7 +282,14 @@ std::vector<std::array<int, 3>> cap_triangles(const Context& ctx, int plane,
     return h;
   };
   try {
-    for (const auto& [a, b] : segments) cdt.insert_constraint(vertex(a), vertex(b));
+    for (const auto& [a, b] : segments) {
+      const Cdt::Vertex_handle va = vertex(a), vb = vertex(b);
+      // Only the floating-point variant's rounded cut points can coincide (exact points made
+      // by a cut are strictly inside their edge): a zero-length boundary edge, on which CGAL's
+      // constraint insertion would crash.
+      if (va == vb) HEDRA_UNREACHABLE("split: the cut's boundary has a zero-length edge");
+      cdt.insert_constraint(va, vb);
+    }
   } catch (const Cdt::Intersection_of_constraints_exception&) {
     HEDRA_UNREACHABLE("split: the cut's boundary crosses itself");
   }
