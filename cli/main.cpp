@@ -122,10 +122,12 @@ int main(int argc, char** argv) {
         bodies = hedra::cli::load_bodies(info_file);
       } catch (const hedra::InvalidInput& e) {
         // An open surface (consistently oriented and manifold, with boundary edges) is not a
-        // body: its report goes to stdout, and the error stays what it is (exit 3).
+        // body, but hlr, shadows and render take it (two-sided faces): its report, exit 0.
         if (std::string(e.what()).find("not closed") != std::string::npos)
-          if (const auto open = hedra::cli::open_surface(info_file))
+          if (const auto open = hedra::cli::open_surface(info_file)) {
             hedra::cli::print_open_surface(std::cout, *open, info_json);
+            return 0;
+          }
         throw;
       }
       if (info_json)
