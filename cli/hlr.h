@@ -18,6 +18,7 @@ struct HlrCommand {
   std::string svg_file;   // -o: the drawing
   std::string json_file;  // --json: the segments
   bool hidden = false;    // also hidden lines (dashed in the drawing, "hidden" in the JSON)
+  bool fit = false;       // --fit: the drawing fitted to the image, not framed as `render` does
 };
 
 /// Registers the `hlr` subcommand and its options on `app`, to fill `command`.

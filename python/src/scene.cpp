@@ -220,6 +220,36 @@ struct PyHiddenLines {
   bool hidden = false;
 };
 
+// `progress=`: a Python callable f(done) (done from 0 to 1; returning False cancels) and Ctrl-C,
+// both seen with the GIL taken on the calling thread; what the callable raised is raised again
+// after the work stopped. Use: callback() in the options, then rethrow() when Cancelled.
+struct PyProgress {
+  py::object callable;
+  std::optional<py::error_already_set> error;
+  ProgressCallback callback() {
+    return [this](double done) {
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        error.emplace();
+        return false;
+      }
+      if (callable.is_none()) return true;
+      try {
+        const py::object r = callable(done);
+        if (!r.is_none() && !r.cast<bool>()) return false;
+      } catch (py::error_already_set& e) {
+        error.emplace(std::move(e));
+        return false;
+      }
+      return true;
+    };
+  }
+  [[noreturn]] void rethrow() {
+    if (error) throw *error;
+    throw;  // hedra.Cancelled
+  }
+};
+
 py::array_t<double> segments_of(const std::vector<HlrSegment>& list, LineKind kind) {
   std::vector<double> flat;
   for (const HlrSegment& s : list)
@@ -589,7 +619,7 @@ void bind_scene(py::module_& m) {
            "The drawing as SVG text (hidden lines dashed when computed, or as asked).")
       .def("_repr_svg_", [](const PyHiddenLines& h) { return svg_of(h, std::nullopt, ""); });
   m.def("hidden_lines",
-        [](const PyScene& s, bool hidden, bool junctions) {
+        [](const PyScene& s, bool hidden, bool junctions, py::object progress) {
           PyHiddenLines out;
           out.width = s.scene.camera.width;
           out.height = s.scene.camera.height;
@@ -599,18 +629,24 @@ void bind_scene(py::module_& m) {
           HlrOptions options;
           options.hidden = hidden;
           options.junctions = junctions;
-          py::gil_scoped_release release;
+          PyProgress reporter{progress, {}};
+          options.progress = reporter.callback();
           const auto t0 = Clock::now();
           try {
+            py::gil_scoped_release release;
             out.result = hidden_lines(scene, options);
           } catch (const InvalidInput& e) {
             rethrow_with_source(s, e);
+          } catch (const Cancelled&) {
+            reporter.rethrow();
           }
           out.ms = ms_since(t0);
           return out;
         },
         py::arg("scene"), py::arg("hidden") = true, py::arg("junctions") = true,
-        "Exact hidden-line removal with the scene's camera.");
+        py::arg("progress") = py::none(),
+        "Exact hidden-line removal with the scene's camera. progress(done) returning False "
+        "cancels (hedra.Cancelled).");
 
   // ---- shadows ----
   py::class_<PyShadows>(m, "Shadows", "Exact shadows of every light on every face.")
@@ -656,7 +692,7 @@ void bind_scene(py::module_& m) {
         return io::shadows_json(s.scene, s.source, s.result, s.visible_parts, s.ms);
       }, "The JSON of `hedra shadows --json` (one line; 'scene' is the file read).");
   m.def("shadows",
-        [](const PyScene& s, bool visible, int threads) {
+        [](const PyScene& s, bool visible, int threads, py::object progress) {
           if (s.scene.lights.empty())
             throw InvalidInput((s.source.empty() ? std::string() : s.source + ": ") +
                                "the scene has no lights (shadows need at least one)");
@@ -664,17 +700,22 @@ void bind_scene(py::module_& m) {
           ShadowOptions options;
           options.visible_parts = visible;
           options.threads = threads;
-          py::gil_scoped_release release;
+          PyProgress reporter{progress, {}};
+          options.progress = reporter.callback();
           const auto t0 = Clock::now();
           try {
+            py::gil_scoped_release release;
             out.result = compute_shadows(out.scene, options);
           } catch (const InvalidInput& e) {
             rethrow_with_source(s, e);
+          } catch (const Cancelled&) {
+            reporter.rethrow();
           }
           out.ms = ms_since(t0);
           return out;
         },
         py::arg("scene"), py::arg("visible") = false, py::arg("threads") = 0,
+        py::arg("progress") = py::none(),
         "Self shadows and exact cast-shadow polygons of every light on every face "
         "(visible=True: also the parts the camera sees).");
 
@@ -816,7 +857,8 @@ void bind_scene(py::module_& m) {
   // ---- rendering ----
   m.def("render",
         [](const PyScene& s, int width, int height, const std::string& shadows, const std::string& shading,
-           int aa, bool lines, double ambient, const std::string& attenuation, int threads) {
+           int aa, bool lines, double ambient, const std::string& attenuation, int threads,
+           py::object progress) {
           RenderOptions options;
           options.width = width;
           options.height = height;
@@ -826,16 +868,18 @@ void bind_scene(py::module_& m) {
           options.ambient = ambient;
           options.attenuation = Attenuation::parse(attenuation);
           options.threads = threads;
+          PyProgress reporter{progress, {}};
+          options.progress = reporter.callback();
           const Scene scene = s.scene;
           Image image;
-          {
+          try {
             py::gil_scoped_release release;
-            try {
-              image = render(scene, options);
-              if (lines) draw_hidden_lines(image, scene);
-            } catch (const InvalidInput& e) {
-              rethrow_with_source(s, e);
-            }
+            image = render(scene, options);
+            if (lines) draw_hidden_lines(image, scene);
+          } catch (const InvalidInput& e) {
+            rethrow_with_source(s, e);
+          } catch (const Cancelled&) {
+            reporter.rethrow();
           }
           py::array_t<std::uint8_t> out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width),
                                          py::ssize_t{3}});
@@ -844,8 +888,9 @@ void bind_scene(py::module_& m) {
         },
         py::arg("scene"), py::arg("width") = 0, py::arg("height") = 0, py::arg("shadows") = "exact",
         py::arg("shading") = "phong", py::arg("aa") = 1, py::arg("lines") = false, py::arg("ambient") = 1.0,
-        py::arg("attenuation") = "none", py::arg("threads") = 0,
-        "Shaded image, (h, w, 3) uint8 (0 sizes: the scene camera's).");
+        py::arg("attenuation") = "none", py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "Shaded image, (h, w, 3) uint8 (0 sizes: the scene camera's). progress(done) returning "
+        "False cancels (hedra.Cancelled).");
 }
 
 }  // namespace hedra::python

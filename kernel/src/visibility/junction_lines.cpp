@@ -116,6 +116,7 @@ void Roberts::junctions() {
   Scratch scratch;
   std::vector<int> ids;
   for (const auto& [i, j] : touching_pairs()) {
+    meter_.add();  // HlrOptions::progress
     // A junction segment lies on face fa of body i and face fb of body j.
     const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
                                              detail::Candidates& out) {

@@ -2,7 +2,12 @@
 // hidden_lines.cpp and junction_lines.cpp (private header roberts_internal.h).
 #include "hedra/visibility/roberts.h"
 
+#include <algorithm>
+
 #include "hedra/clip/cyrus_beck.h"
+#include "hedra/core/error.h"
+#include "hedra/core/predicates.h"
+#include "hedra/decompose/split.h"
 #include "visibility/roberts_internal.h"
 
 namespace hedra {
@@ -43,9 +48,89 @@ std::optional<HiddenPart> hidden_part(const OcclusionVolume& volume, const Vec3&
   return HiddenPart{part->lo.t, part->hi.t};
 }
 
-HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera, const HlrOptions& options) {
+namespace {
+
+std::string body_name(std::span<const std::string> names, size_t b) {
+  return names.empty() ? "body " + std::to_string(b) : "body '" + names[b] + "'";
+}
+
+// The drawing of the bodies ∩ the near half-space of a perspective camera (camera.h's
+// near_plane, the renderer's): bodies that reach the near plane are split by it exactly
+// (hedra/decompose/split.h) and only their parts in front are drawn and hide; the cut itself
+// (the edges of the caps, junction lines on them) is not a line of the scene and is not drawn.
+// Parallel views and scenes wholly in front go straight to the Roberts pass.
+// Cost: O(V) exact side tests, plus O(n log n) per split body of n triangles.
+HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std::string> names,
+                               const Camera& camera, const HlrOptions& options,
+                               const Eigen::AlignedBox3d& box) {
   camera.validate();
-  return internal::Roberts(bodies, {}, camera, options).run();
+  if (camera.projection != Camera::Projection::Perspective)
+    return internal::Roberts(bodies, names, camera, options).run();
+  // The eye inside or on a body is still an error: nothing of the scene could be seen.
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    const Body& body = bodies[b];
+    if (!body.bbox().contains(camera.eye)) continue;
+    const Location where = body.classify(camera.eye);
+    if (where != Location::Outside)
+      throw InvalidInput(body_name(names, b) + ": the perspective eye lies " +
+                         (where == Location::Inside ? "inside" : "on") + " the body");
+  }
+  const Plane near = camera.near_plane(box);
+  std::vector<char> cut(bodies.size(), 0);
+  bool any = false;
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    for (const Vec3& v : bodies[b].vertices())
+      if (side_of_plane(near, v) != Sign::Positive) {
+        cut[b] = 1;
+        any = true;
+        break;
+      }
+  }
+  if (!any) return internal::Roberts(bodies, names, camera, options).run();
+
+  std::vector<Body> kept;
+  std::vector<std::string> kept_names;
+  std::vector<int> origin;
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    std::vector<Body> parts;
+    if (cut[b])
+      parts = split(bodies[b], near).above;
+    else
+      parts.push_back(bodies[b]);
+    for (Body& p : parts) {
+      kept.push_back(std::move(p));
+      kept_names.push_back(names.empty() ? std::to_string(b) : names[b]);
+      origin.push_back(static_cast<int>(b));
+    }
+  }
+  HlrResult result = internal::Roberts(kept, kept_names, camera, options).run();
+  // Drop the cut: segments with both ends on the near plane. Their points are rounded
+  // intersections with that plane (a few ulps of the coordinates off it), so this is a
+  // tolerance on constructed points, not a decision about the input.
+  double m = camera.eye.cwiseAbs().maxCoeff();
+  if (!box.isEmpty()) m = std::max({m, box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff()});
+  const double tol = 1e-12 * std::max(m, 1e-300);
+  const auto on_near = [&](const Vec3& p) { return std::abs(near.value(p)) <= tol; };
+  for (std::vector<HlrSegment>* list : {&result.visible, &result.hidden}) {
+    std::erase_if(*list, [&](const HlrSegment& s) { return on_near(s.a) && on_near(s.b); });
+    for (HlrSegment& s : *list) {
+      const int b = s.body;
+      s.body = origin[static_cast<size_t>(b)];
+      if (s.other_body >= 0) s.other_body = origin[static_cast<size_t>(s.other_body)];
+      if (cut[static_cast<size_t>(s.body)]) s.edge = -1;  // an edge of the split body, not of the input
+    }
+  }
+  result.stats.bodies = static_cast<int>(bodies.size());
+  return result;
+}
+
+}  // namespace
+
+HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera, const HlrOptions& options) {
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (const Body& b : bodies) box.extend(b.bbox());
+  return clipped_hidden_lines(bodies, {}, camera, options, box);
 }
 
 HlrResult hidden_lines(const Scene& scene, const HlrOptions& options) {
@@ -55,8 +140,7 @@ HlrResult hidden_lines(const Scene& scene, const HlrOptions& options) {
     bodies.push_back(b->body);
     names.push_back(b->name);
   }
-  scene.camera.validate();
-  return internal::Roberts(bodies, names, scene.camera, options).run();
+  return clipped_hidden_lines(bodies, names, scene.camera, options, scene.bbox());
 }
 
 }  // namespace hedra
