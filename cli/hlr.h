@@ -25,7 +25,7 @@ struct HlrCommand {
 CLI::App* add_hlr_subcommand(CLI::App& app, HlrCommand& command);
 
 /// Runs `hedra hlr`: reads the scene, removes the hidden lines with the scene's camera, writes
-/// the SVG and the JSON {"visible": [[x1,y1,z1,x2,y2,z2], …], "hidden": […], "junction": […],
+/// the SVG (framed as `hedra render` frames the scene, or fitted with --fit) and the JSON {"visible": [[x1,y1,z1,x2,y2,z2], …], "hidden": […], "junction": […],
 /// "ms": T} (world coordinates; junction segments only under "junction", visible parts only;
 /// "hidden" filled with --hidden; ms = computation time without file I/O), each file whole or
 /// not at all, and prints a one-line summary to `out`.

@@ -218,6 +218,7 @@ struct PyHiddenLines {
   int width = 800, height = 600;
   Vec3 background = Vec3(1, 1, 1);
   bool hidden = false;
+  RasterView view;  // the renderer's framing of the scene (svg(fit=False))
 };
 
 // `progress=`: a Python callable f(done) (done from 0 to 1; returning False cancels) and Ctrl-C,
@@ -257,8 +258,10 @@ py::array_t<double> segments_of(const std::vector<HlrSegment>& list, LineKind ki
   return rows_array(flat, 6);
 }
 
-std::string svg_of(const PyHiddenLines& h, std::optional<bool> hidden, const std::string& title) {
+std::string svg_of(const PyHiddenLines& h, std::optional<bool> hidden, const std::string& title,
+                   bool fit) {
   SvgStyle style;
+  if (!fit) style.view = h.view;
   style.width = h.width;
   style.height = h.height;
   style.background = h.background;
@@ -616,8 +619,10 @@ void bind_scene(py::module_& m) {
       .def("to_json", [](const PyHiddenLines& h) { return io::hidden_lines_json(h.result, h.ms); },
            "The JSON of `hedra hlr --json` (one line).")
       .def("svg", &svg_of, py::arg("hidden") = py::none(), py::arg("title") = "",
-           "The drawing as SVG text (hidden lines dashed when computed, or as asked).")
-      .def("_repr_svg_", [](const PyHiddenLines& h) { return svg_of(h, std::nullopt, ""); });
+           py::arg("fit") = false,
+           "The drawing as SVG text (hidden lines dashed when computed, or as asked), framed as "
+           "render() frames the scene (fit=True: fitted to the image).")
+      .def("_repr_svg_", [](const PyHiddenLines& h) { return svg_of(h, std::nullopt, "", false); });
   m.def("hidden_lines",
         [](const PyScene& s, bool hidden, bool junctions, py::object progress) {
           PyHiddenLines out;
@@ -626,6 +631,7 @@ void bind_scene(py::module_& m) {
           out.background = s.scene.image.background;
           out.hidden = hidden;
           const Scene scene = s.scene;
+          out.view = scene_view(scene, out.width, out.height);
           HlrOptions options;
           options.hidden = hidden;
           options.junctions = junctions;

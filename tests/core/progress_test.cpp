@@ -33,16 +33,19 @@ Scene test_scene() {
   return s;
 }
 
-// A callback that records what it is told and cancels at call `stop` (never when 0).
+// A callback that records what it is told and cancels at call `stop` (never when 0), or at the
+// first fraction above `above`.
 struct Recorder {
   std::vector<double> seen;
   int stop = 0;
+  double above = 2;
   std::thread::id caller = std::this_thread::get_id();
   bool other_thread = false;
   ProgressCallback callback() {
     return [this](double f) {
       seen.push_back(f);
       other_thread = other_thread || std::this_thread::get_id() != caller;
+      if (f > above) return false;
       return stop == 0 || static_cast<int>(seen.size()) < stop;
     };
   }
@@ -101,14 +104,17 @@ TEST(Progress, RenderingReportsAndCancels) {
   full.expect_complete();
   o.progress = nullptr;
   EXPECT_EQ(with.rgb, render(scene, o).rgb);  // reporting changes nothing
-  // Cancelled during the exact shadow polygons (the second report) and during the tiles.
-  for (int stop : {2, static_cast<int>(full.seen.size())}) {
+  // Cancelled during the exact shadow polygons (their reports map to 0.05 … 0.5; their last
+  // stage always reports) and during the tiles (0.5 … 1; the last always reports).
+  for (double above : {0.06, 0.5}) {
     Recorder cancel;
-    cancel.stop = stop;
+    cancel.above = above;
     o.progress = cancel.callback();
     Image image;
-    EXPECT_THROW(image = render(scene, o), Cancelled) << stop;
+    EXPECT_THROW(image = render(scene, o), Cancelled) << above;
     EXPECT_TRUE(image.rgb.empty());  // no partial image
+    ASSERT_FALSE(cancel.seen.empty());
+    EXPECT_LE(cancel.seen.back(), above == 0.06 ? 0.5 : 1.0);  // stopped in that stage
   }
 }
 
