@@ -99,10 +99,11 @@ HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std
       parts.push_back(bodies[b]);
     for (Body& p : parts) {
       kept.push_back(std::move(p));
-      kept_names.push_back(names.empty() ? std::to_string(b) : names[b]);
+      if (!names.empty()) kept_names.push_back(names[b]);
       origin.push_back(static_cast<int>(b));
     }
   }
+  // Messages of the pass name the input body (a split body's parts keep its name).
   HlrResult result = internal::Roberts(kept, kept_names, camera, options).run();
   // Drop the cut: segments with both ends on the near plane. Their points are rounded
   // intersections with that plane (a few ulps of the coordinates off it), so this is a
