@@ -36,6 +36,18 @@ CLI::App* add_hlr_subcommand(CLI::App& app, HlrCommand& command) {
   hlr->add_option("-o,--output", command.svg_file, "write the drawing (SVG)");
   hlr->add_flag("--hidden", command.hidden, "also hidden lines: dashed in the SVG, listed in the JSON");
   hlr->add_option("--json", command.json_file, "write the segments as JSON");
+  hlr->add_option("--crease-angle", command.crease_angle,
+                  "edges whose faces turn by at most DEG are smooth: not drawn, the outline of "
+                  "smooth parts is (0..180, default 30; 0: every edge)")
+      ->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            double v = 0;
+            if (!CLI::detail::lexical_cast(text, v) || !(v >= 0 && v <= 180))
+              return "expected an angle from 0 to 180 degrees, got '" + text + "'";
+            return "";
+          },
+          "DEG"));
+  hlr->add_flag("--smooth", command.smooth, "also draw the smooth edges (class \"smooth\")");
   hlr->add_flag("--fit", command.fit,
                 "fit the drawing to the image (default: frame it as `hedra render` does)");
   return hlr;
@@ -45,6 +57,8 @@ void run_hlr(const HlrCommand& command, std::ostream& out) {
   const Scene scene = load_scene(command.scene_file);
   HlrOptions options;
   options.hidden = command.hidden;
+  options.crease_angle = command.crease_angle;
+  options.smooth = command.smooth;
   options.progress = progress_bar("hlr");
   HlrResult result;
   const auto start = std::chrono::steady_clock::now();
@@ -73,14 +87,27 @@ void run_hlr(const HlrCommand& command, std::ostream& out) {
   check_interrupted();  // Ctrl-C up to here: no file
   outputs.commit();
 
-  size_t edges = 0, junctions = 0;
-  for (const HlrSegment& s : result.visible) (s.kind == LineKind::Edge ? edges : junctions) += 1;
+  size_t edges = 0, junctions = 0, outlines = 0, smooth = 0;
+  for (const HlrSegment& s : result.visible) {
+    if (s.kind == LineKind::Edge) ++edges;
+    else if (s.kind == LineKind::Junction) ++junctions;
+    else if (s.kind == LineKind::Outline) ++outlines;
+    else ++smooth;
+  }
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "hidden lines: %zu visible edge segments (length %.6g), %zu junction segments, "
-                "%zu hidden segments; %d bodies, %d convex pieces; %.3g ms",
-                edges, result.length(LineKind::Edge), junctions, result.hidden.size(),
-                result.stats.bodies, result.stats.pieces, ms);
+                "%zu hidden segments; ",
+                edges, result.length(LineKind::Edge), junctions, result.hidden.size());
+  out << buf;
+  if (result.has_smooth()) {
+    std::snprintf(buf, sizeof buf, "%zu outline segments (length %.6g), %d smooth edges%s; ",
+                  outlines, result.length(LineKind::Outline), result.stats.smooth_edges,
+                  command.smooth ? (" (" + std::to_string(smooth) + " segments drawn)").c_str() : "");
+    out << buf;
+  }
+  std::snprintf(buf, sizeof buf, "%d bodies, %d convex pieces; %.3g ms", result.stats.bodies,
+                result.stats.pieces, ms);
   out << buf;
   if (!command.svg_file.empty()) out << "; wrote " << command.svg_file;
   if (!command.json_file.empty()) out << (command.svg_file.empty() ? "; wrote " : ", ") << command.json_file;
@@ -94,11 +121,16 @@ void write_demo_hidden_lines(const Scene& scene, const std::string& path, std::o
   SvgStyle style = style_of(scene, true, false);
   style.title = "hedra demo: hidden lines";
   io::write_file_atomically(path, hidden_lines_svg(result, style));
-  size_t junctions = 0;
-  for (const HlrSegment& s : result.visible) junctions += s.kind == LineKind::Junction;
-  out << "hidden lines (Roberts, exact): " << result.visible.size() - junctions
-      << " visible edge segments, " << junctions << " junction segments, "
-      << result.hidden.size() << " hidden (dashed); wrote " << path << "\n";
+  size_t edges = 0, junctions = 0, outlines = 0;
+  for (const HlrSegment& s : result.visible) {
+    junctions += s.kind == LineKind::Junction;
+    edges += s.kind == LineKind::Edge;
+    outlines += s.kind == LineKind::Outline;
+  }
+  out << "hidden lines (Roberts, exact): " << edges << " visible edge segments, " << junctions
+      << " junction segments, ";
+  if (result.has_smooth()) out << outlines << " outline segments, ";
+  out << result.hidden.size() << " hidden (dashed); wrote " << path << "\n";
 }
 
 }  // namespace hedra::cli

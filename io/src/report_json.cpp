@@ -125,6 +125,9 @@ std::string hidden_lines_json(const HlrResult& result, double ms) {
   j["visible"] = segments_json(result.visible, LineKind::Edge);
   j["hidden"] = segments_json(result.hidden, LineKind::Edge);
   j["junction"] = segments_json(result.visible, LineKind::Junction);
+  // Line classes only where the scene has smooth parts: a polyhedral scene's report is as it was.
+  if (result.has_smooth()) j["outline"] = segments_json(result.visible, LineKind::Outline);
+  if (result.smooth_listed) j["smooth"] = segments_json(result.visible, LineKind::Smooth);
   j["ms"] = ms;
   return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }

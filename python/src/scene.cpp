@@ -151,7 +151,8 @@ py::tuple scene_state(const PyScene& s) {
   py::list bodies;
   for (const SceneBody& b : s.scene.bodies())
     bodies.append(py::make_tuple(b.name, py::cast(PyBody{b.body, SmoothSurface()}).attr("__getstate__")(),
-                                 material_state(b.material), b.hidden, b.lod_note));
+                                 material_state(b.material), b.hidden, b.lod_note,
+                                 py::cast(b.surface.state())));
   py::list lights;
   for (const Light& l : s.scene.lights) lights.append(light_state(l));
   return py::make_tuple(1, bodies, camera_state(s.scene.camera), lights,
@@ -170,6 +171,8 @@ PyScene scene_from(const py::tuple& t) {
                                    material_from(b[2].cast<py::tuple>()));
     added.hidden = b[3].cast<bool>();
     added.lod_note = b[4].cast<std::string>();
+    // The analytic surface (hidden-line outlines, smooth shading); absent in older pickles.
+    if (b.size() > 5) added.surface = SmoothSurface::from_state(b[5].cast<std::vector<double>>());
   }
   s.scene.camera = camera_from(t[2].cast<py::tuple>());
   for (const py::handle l : t[3].cast<py::list>()) s.scene.lights.push_back(light_from(l.cast<py::tuple>()));
@@ -604,6 +607,10 @@ void bind_scene(py::module_& m) {
                              "(k, 6) hidden edge segments (with hidden=True).")
       .def_property_readonly("junction", [](const PyHiddenLines& h) { return segments_of(h.result.visible, LineKind::Junction); },
                              "(k, 6) visible junction segments (where bodies interpenetrate).")
+      .def_property_readonly("outline", [](const PyHiddenLines& h) { return segments_of(h.result.visible, LineKind::Outline); },
+                             "(k, 6) visible outline segments (contours of smooth parts).")
+      .def_property_readonly("smooth", [](const PyHiddenLines& h) { return segments_of(h.result.visible, LineKind::Smooth); },
+                             "(k, 6) visible smooth-edge segments (with smooth=True).")
       .def_readonly("ms", &PyHiddenLines::ms)
       .def_property_readonly("stats", [](const PyHiddenLines& h) {
         const HlrStats& s = h.result.stats;
@@ -614,6 +621,8 @@ void bind_scene(py::module_& m) {
         d["back_edges"] = s.back_edges;
         d["occlusion_tests"] = s.occlusion_tests;
         d["junction_segments"] = s.junction_segments;
+        d["smooth_edges"] = s.smooth_edges;
+        d["outline_segments"] = s.outline_segments;
         return d;
       })
       .def("to_json", [](const PyHiddenLines& h) { return io::hidden_lines_json(h.result, h.ms); },
@@ -624,7 +633,8 @@ void bind_scene(py::module_& m) {
            "render() frames the scene (fit=True: fitted to the image).")
       .def("_repr_svg_", [](const PyHiddenLines& h) { return svg_of(h, std::nullopt, "", false); });
   m.def("hidden_lines",
-        [](const PyScene& s, bool hidden, bool junctions, py::object progress) {
+        [](const PyScene& s, bool hidden, bool junctions, double crease_angle, bool smooth,
+           py::object progress) {
           PyHiddenLines out;
           out.width = s.scene.camera.width;
           out.height = s.scene.camera.height;
@@ -635,6 +645,8 @@ void bind_scene(py::module_& m) {
           HlrOptions options;
           options.hidden = hidden;
           options.junctions = junctions;
+          options.crease_angle = crease_angle;
+          options.smooth = smooth;
           PyProgress reporter{progress, {}};
           options.progress = reporter.callback();
           const auto t0 = Clock::now();
@@ -650,9 +662,10 @@ void bind_scene(py::module_& m) {
           return out;
         },
         py::arg("scene"), py::arg("hidden") = true, py::arg("junctions") = true,
-        py::arg("progress") = py::none(),
-        "Exact hidden-line removal with the scene's camera. progress(done) returning False "
-        "cancels (hedra.Cancelled).");
+        py::arg("crease_angle") = 30.0, py::arg("smooth") = false, py::arg("progress") = py::none(),
+        "Exact hidden-line removal with the scene's camera: sharp edges (turning by more than "
+        "crease_angle degrees), outlines of smooth parts, smooth edges when smooth=True. "
+        "progress(done) returning False cancels (hedra.Cancelled).");
 
   // ---- shadows ----
   py::class_<PyShadows>(m, "Shadows", "Exact shadows of every light on every face.")

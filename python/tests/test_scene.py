@@ -313,3 +313,36 @@ def test_long_calls_release_the_gil(city):
     # Python code ran here while the render was inside C++ (with the GIL held it could not).
     inside = [x for x in ticks if span["start"] + 0.01 < x < span["end"] - 0.01]
     assert span["end"] - span["start"] > 0.05 and len(inside) > 0
+
+
+def test_hidden_lines_draw_outlines_of_curved_bodies(tmp_path):
+    # A unit sphere seen in parallel: no facet edge is drawn, its outline is a circle of
+    # length 2π (within the chordal error); smooth=True adds the facet edges as "smooth";
+    # crease_angle=0 draws every facet edge as "visible", as without line classes.
+    path = tmp_path / "ball.json"
+    path.write_text(json.dumps({
+        "bodies": [{"name": "ball", "sphere": {"center": [0, 0, 0], "radius": 1, "tolerance": 1e-3}}],
+        "camera": {"projection": "parallel", "direction": [1, 2, -1.5], "up": [0, 0, 1]}}))
+    s = hedra.read(str(path))
+    d = np.array([1, 2, -1.5]) / np.linalg.norm([1, 2, -1.5])
+
+    def picture_length(segments):
+        v = segments[:, 3:] - segments[:, :3]
+        return float(np.linalg.norm(v - np.outer(v @ d, d), axis=1).sum())
+
+    r = hedra.hidden_lines(s, hidden=False)
+    assert r.visible.shape == (0, 6) and r.smooth.shape == (0, 6)
+    assert abs(picture_length(r.outline) - 2 * np.pi) < 5e-3 * 2 * np.pi
+    assert r.stats["smooth_edges"] > 0
+    assert np.array_equal(pickle.loads(pickle.dumps(s)).bodies["ball"].vertices, s.bodies["ball"].vertices)
+    assert without_ms(hedra.hidden_lines(pickle.loads(pickle.dumps(s))).to_json()) == without_ms(r.to_json())
+    run_cli("hlr", path, "--smooth", "--json", tmp_path / "ball_hlr.json")
+    cli = without_ms((tmp_path / "ball_hlr.json").read_text())
+    with_smooth = hedra.hidden_lines(s, hidden=False, smooth=True)
+    assert without_ms(with_smooth.to_json()) == cli
+    assert np.array_equal(with_smooth.outline, np.array(cli["outline"]).reshape(-1, 6))
+    assert len(with_smooth.smooth) > 100 and 'class="smooth"' in with_smooth.svg()
+    every_edge = hedra.hidden_lines(s, hidden=False, crease_angle=0)
+    assert len(every_edge.outline) == 0 and len(every_edge.visible) > 100
+    with pytest.raises(Exception, match="crease angle"):
+        hedra.hidden_lines(s, crease_angle=200)

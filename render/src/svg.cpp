@@ -81,11 +81,20 @@ std::string hidden_lines_svg(const HlrResult& result, const SvgStyle& style) {
                 "vector-effect: non-scaling-stroke; }\n"
                 "  .visible { stroke: #000000; stroke-width: %gpx; }\n"
                 "  .junction { stroke: #b2182b; stroke-width: %gpx; }\n"
-                "  .hidden { stroke: #7f7f7f; stroke-width: %gpx; stroke-dasharray: %g %g; }\n"
-                "</style>\n",
+                "  .hidden { stroke: #7f7f7f; stroke-width: %gpx; stroke-dasharray: %g %g; }\n",
                 style.visible_px, style.junction_px, style.hidden_px, 4 * style.hidden_px,
                 3 * style.hidden_px);
   out += buf;
+  // Classes of smooth bodies only where the scene has them: a polyhedral drawing is as it was.
+  if (result.has_smooth()) {
+    std::snprintf(buf, sizeof buf, "  .outline { stroke: #000000; stroke-width: %gpx; }\n", style.outline_px);
+    out += buf;
+  }
+  if (result.smooth_listed) {
+    std::snprintf(buf, sizeof buf, "  .smooth { stroke: #9a9a9a; stroke-width: %gpx; }\n", style.smooth_px);
+    out += buf;
+  }
+  out += "</style>\n";
   out += "<rect width=\"100%\" height=\"100%\" fill=\"" + colour(style.background) + "\"/>\n";
   const auto group = [&](const char* cls, const std::vector<HlrSegment>& segments, LineKind kind,
                          double px, const std::string& dash) {
@@ -104,7 +113,9 @@ std::string hidden_lines_svg(const HlrResult& result, const SvgStyle& style) {
     group("hidden", result.hidden, LineKind::Edge, style.hidden_px, dash);
   }
   group("visible", result.visible, LineKind::Edge, style.visible_px, "");
+  if (result.smooth_listed) group("smooth", result.visible, LineKind::Smooth, style.smooth_px, "");
   group("junction", result.visible, LineKind::Junction, style.junction_px, "");
+  if (result.has_smooth()) group("outline", result.visible, LineKind::Outline, style.outline_px, "");
   out += "</svg>\n";
   return out;
 }

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "hedra/core/transform.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -147,6 +149,113 @@ TEST(HlrCli, ErrorsNameTheFileAndPlaceAndWriteNothing) {
   write(d / "bar.json", kBarScene);
   r = run("hlr " + (d / "bar.json").string() + " -o " + (d / "no-such-dir" / "x.svg").string());
   EXPECT_EQ(r.code, 3);
+  fs::remove_all(d);
+}
+
+// Length of the world segments projected along the unit direction d (a parallel view).
+double picture_length(const nlohmann::json& list, const hedra::Vec3& view) {
+  const hedra::Vec3 d = view.normalized();
+  double total = 0;
+  for (const auto& s : list) {
+    hedra::Vec3 v(s[3].get<double>() - s[0].get<double>(), s[4].get<double>() - s[1].get<double>(),
+                  s[5].get<double>() - s[2].get<double>());
+    total += (v - v.dot(d) * d).norm();
+  }
+  return total;
+}
+
+TEST(HlrCli, CreaseAngleIsValidated) {
+  const fs::path d = temp_dir("crease");
+  write(d / "bar.json", kBarScene);
+  for (const char* bad : {"-1", "180.5", "nan", "inf", "abc"}) {
+    const Result r = run("hlr " + (d / "bar.json").string() + " --crease-angle " + bad);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.err.find("crease-angle"), std::string::npos) << r.err;
+  }
+  for (const char* good : {"0", "180", "45"})
+    EXPECT_EQ(run("hlr " + (d / "bar.json").string() + " --crease-angle " + good).code, 0) << good;
+  fs::remove_all(d);
+}
+
+// A sphere of radius 1.5 above a box, seen from above at a slant: the box's picture and the
+// sphere's do not meet.
+const char* kSphereScene = R"({
+  "bodies": [
+    {"name": "base", "box": {"min": [-6, -2, -1], "max": [-3, 2, 0]}},
+    {"name": "ball", "sphere": {"center": [2, 0, 1], "radius": 1.5, "tolerance": 0.001}}
+  ],
+  "camera": {"projection": "parallel", "direction": [0.3, 0.4, -1], "up": [0, 0, 1]}
+})";
+
+TEST(HlrCli, CurvedBodiesDrawTheirOutlineNotTheirFacets) {
+  const fs::path d = temp_dir("outline");
+  write(d / "s.json", kSphereScene);
+  write(d / "bar.json", kBarScene);
+  Result r = run("hlr " + (d / "s.json").string() + " -o " + (d / "s.svg").string() + " --json " +
+                 (d / "s.hlr.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("outline segments"), std::string::npos) << r.out;
+  nlohmann::json j = nlohmann::json::parse(read(d / "s.hlr.json"));
+  ASSERT_TRUE(j.contains("outline"));
+  EXPECT_FALSE(j.contains("smooth"));
+  // The outline of a sphere of radius 1.5 in a parallel view: a circle, 3π; the box's
+  // visible edges are all that "visible" holds (its 9 edges: 3·(3 + 4 + 1) before projection).
+  const hedra::Vec3 view(0.3, 0.4, -1);
+  EXPECT_NEAR(picture_length(j["outline"], view), 3 * M_PI, 5e-3 * 3 * M_PI);
+  for (const auto& e : j["visible"]) EXPECT_LT(e[0].get<double>(), -2.9);
+  EXPECT_NE(read(d / "s.svg").find("class=\"outline\""), std::string::npos);
+  EXPECT_EQ(read(d / "s.svg").find("class=\"smooth\""), std::string::npos);
+  // --smooth adds the facet edges as their own class.
+  r = run("hlr " + (d / "s.json").string() + " --smooth -o " + (d / "s.svg").string() + " --json " +
+          (d / "s.hlr.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(read(d / "s.hlr.json"));
+  ASSERT_TRUE(j.contains("smooth"));
+  EXPECT_GT(j["smooth"].size(), 100u);
+  EXPECT_NE(read(d / "s.svg").find("class=\"smooth\""), std::string::npos);
+  // A scene of boxes has no smooth parts: its report has no new key, its drawing no new class.
+  r = run("hlr " + (d / "bar.json").string() + " -o " + (d / "b.svg").string() + " --json " +
+          (d / "b.hlr.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  j = nlohmann::json::parse(read(d / "b.hlr.json"));
+  EXPECT_FALSE(j.contains("outline"));
+  EXPECT_EQ(j.size(), 4u);  // visible, hidden, junction, ms
+  EXPECT_EQ(read(d / "b.svg").find(".outline"), std::string::npos);
+  EXPECT_EQ(r.out.find("outline segments"), std::string::npos);
+  fs::remove_all(d);
+}
+
+// An L block under a generic rotation, converted to binary (float32) STL: its rectangles come
+// back as triangle pairs coplanar only within float rounding. Drawn from that file without
+// --tolerance, seen by the correspondingly rotated camera, it has the aligned block's drawing:
+// no diagonals (picture length within 1e-3).
+TEST(HlrCli, RotatedFloat32StlDrawsLikeItsAlignedTwin) {
+  const fs::path d = temp_dir("stl");
+  const char* l = R"("prism": {"polygon": [[0,0],[4,0],[4,1],[1,1],[1,3],[0,3]], "z": [0, 2]})";
+  write(d / "rotated.json", std::string(R"({"bodies": [{"name": "l", )") + l +
+                                R"(, "transform": [{"rotate": {"axis": [1, 2, 3], "deg": 37}}]}]})");
+  ASSERT_EQ(run("convert " + (d / "rotated.json").string() + " " + (d / "l.stl").string()).code, 0);
+  const hedra::Transform rotation = hedra::Transform::rotation({1, 2, 3}, 37);
+  const hedra::Vec3 view(-1, -1, -1), up(0, 0, 1);
+  const hedra::Vec3 rview = rotation.apply_vector(view), rup = rotation.apply_vector(up);
+  char camera[256];
+  std::snprintf(camera, sizeof camera,
+                R"("camera": {"projection": "parallel", "direction": [%.17g, %.17g, %.17g], "up": [%.17g, %.17g, %.17g]})",
+                rview.x(), rview.y(), rview.z(), rup.x(), rup.y(), rup.z());
+  write(d / "stl.json", std::string(R"({"bodies": [{"name": "l", "mesh": "l.stl"}], )") + camera + "}");
+  write(d / "aligned.json", std::string(R"({"bodies": [{"name": "l", )") + l + R"(}],
+    "camera": {"projection": "parallel", "direction": [-1, -1, -1], "up": [0, 0, 1]}})");
+  ASSERT_EQ(run("hlr " + (d / "stl.json").string() + " --json " + (d / "r.json").string()).code, 0);
+  ASSERT_EQ(run("hlr " + (d / "aligned.json").string() + " --json " + (d / "a.json").string()).code, 0);
+  const nlohmann::json r = nlohmann::json::parse(read(d / "r.json"));
+  const nlohmann::json a = nlohmann::json::parse(read(d / "a.json"));
+  const double expected = picture_length(a["visible"], view);
+  EXPECT_NEAR(picture_length(r["visible"], rview) + picture_length(r["outline"], rview), expected,
+              1e-3 * expected);
+  EXPECT_TRUE(r["outline"].empty());
+  // With crease angle 0 every edge is drawn: the diagonals come back.
+  ASSERT_EQ(run("hlr " + (d / "stl.json").string() + " --crease-angle 0 --json " + (d / "r0.json").string()).code, 0);
+  EXPECT_GT(picture_length(nlohmann::json::parse(read(d / "r0.json"))["visible"], rview), 1.1 * expected);
   fs::remove_all(d);
 }
 

@@ -4,6 +4,8 @@
 
 #include <Eigen/LU>
 
+#include "hedra/core/error.h"
+
 namespace hedra {
 
 SmoothSurface SmoothSurface::sphere(const Vec3& centre, double radius) {
@@ -41,6 +43,33 @@ SmoothSurface SmoothSurface::transformed(const Transform& t) const {
   SmoothSurface s = *this;
   s.linear_ = step * linear_;
   s.offset_ = step * offset_ + t.matrix().row(3).head<3>().transpose();
+  s.inverse_ = s.linear_.inverse();
+  return s;
+}
+
+std::vector<double> SmoothSurface::state() const {
+  std::vector<double> out{static_cast<double>(kind_), centre_.x(), centre_.y(), centre_.z(),
+                          radius_, z0_, z1_};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out.push_back(linear_(r, c));
+  for (int i = 0; i < 3; ++i) out.push_back(offset_(i));
+  return out;
+}
+
+SmoothSurface SmoothSurface::from_state(const std::vector<double>& state) {
+  if (state.size() != 19 || !(state[0] >= 0 && state[0] <= 3) || state[0] != std::floor(state[0]))
+    throw InvalidInput("smooth surface: unknown state");
+  SmoothSurface s;
+  s.kind_ = static_cast<Kind>(static_cast<int>(state[0]));
+  s.centre_ = Vec3(state[1], state[2], state[3]);
+  s.radius_ = state[4];
+  s.z0_ = state[5];
+  s.z1_ = state[6];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) s.linear_(r, c) = state[static_cast<size_t>(7 + 3 * r + c)];
+  for (int i = 0; i < 3; ++i) s.offset_(i) = state[static_cast<size_t>(16 + i)];
+  // transformed() sets inverse_ the same way (and the identity inverts exactly), so the
+  // rebuilt surface is the same bit for bit.
   s.inverse_ = s.linear_.inverse();
   return s;
 }

@@ -57,20 +57,23 @@ HlrResult Roberts::run() {
   for (const Body& body : bodies_) edge_total += static_cast<size_t>(body.edge_count());
   meter_.stage(0.2, options_.junctions ? 0.9 : 1.0, static_cast<double>(edge_total));
   // Stages 1 and 2: the edges, bodies in parallel, results in body order.
-  {
-    std::vector<EdgeOutput> outputs(bodies_.size());
-    parallel_blocks(bodies_.size(), 0, 8, [&](size_t begin, size_t end) {
-      Scratch scratch;
-      for (size_t b = begin; b != end; ++b) edges_of(static_cast<int>(b), scratch, outputs[b]);
-    });
-    for (EdgeOutput& o : outputs) {
-      result_.visible.insert(result_.visible.end(), o.visible.begin(), o.visible.end());
-      result_.hidden.insert(result_.hidden.end(), o.hidden.begin(), o.hidden.end());
-      result_.stats.edges += o.stats.edges;
-      result_.stats.back_edges += o.stats.back_edges;
-      result_.stats.occlusion_tests += o.stats.occlusion_tests;
-      result_.stats.exact_segments += o.stats.exact_segments;
+  std::vector<EdgeOutput> outputs(bodies_.size());
+  parallel_blocks(bodies_.size(), 0, 8, [&](size_t begin, size_t end) {
+    Scratch scratch;
+    for (size_t b = begin; b != end; ++b) {
+      edges_of(static_cast<int>(b), scratch, outputs[b]);
+      outline_of(static_cast<int>(b), scratch, outputs[b]);
     }
+  });
+  for (EdgeOutput& o : outputs) {
+    result_.visible.insert(result_.visible.end(), o.visible.begin(), o.visible.end());
+    result_.hidden.insert(result_.hidden.end(), o.hidden.begin(), o.hidden.end());
+    result_.stats.edges += o.stats.edges;
+    result_.stats.back_edges += o.stats.back_edges;
+    result_.stats.occlusion_tests += o.stats.occlusion_tests;
+    result_.stats.exact_segments += o.stats.exact_segments;
+    result_.stats.smooth_edges += o.stats.smooth_edges;
+    result_.stats.outline_segments += o.stats.outline_segments;
   }
   meter_.finish_stage();
   if (options_.merge_coincident) merge_coincident();
@@ -80,6 +83,12 @@ HlrResult Roberts::run() {
     junctions();
     meter_.finish_stage();
   }
+  // Outlines and smooth edges last: they take no part in the merging of coincident edges.
+  for (const LineKind kind : {LineKind::Outline, LineKind::Smooth})
+    for (const EdgeOutput& o : outputs)
+      for (const HlrSegment& s : o.classes)
+        if (s.kind == kind) result_.visible.push_back(s);
+  result_.smooth_listed = options_.smooth;
   return std::move(result_);
 }
 
@@ -154,6 +163,11 @@ void Roberts::prepare_bodies() {
       HlrBody& bd = data_[b];
       bd.facing.resize(static_cast<size_t>(body.face_count()));
       for (int f = 0; f < body.face_count(); ++f) bd.facing[static_cast<size_t>(f)] = facing(body, f, view_);
+      // Line classes: O(E) in double (a drawing construction, not a decision).
+      if (options_.crease_angle > 0) {
+        bd.classes = classify_edges(body, options_.crease_angle, surface(static_cast<int>(b)));
+        bd.any_smooth = std::find(bd.classes.begin(), bd.classes.end(), EdgeClass::Smooth) != bd.classes.end();
+      }
       bd.convex = is_convex(body);
       meter_.add();
       if (bd.convex) {
@@ -328,14 +342,62 @@ bool Roberts::end_on(const Vec3& a, const Vec3& b) const {
   return parallel_to(a, b, view_.direction);
 }
 
-void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
-  const Body& body = bodies_[static_cast<size_t>(b)];
-  const HlrBody& bd = data_[static_cast<size_t>(b)];
-  const auto& v = body.vertices();
+template <class Keep>
+void Roberts::visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch& scratch,
+                            EdgeOutput& out) const {
   const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
   std::vector<int>& ids = scratch.ids;
   std::vector<SegmentPart>& parts = scratch.parts;
   detail::Candidates& exact = scratch.exact;
+  candidates(p1, p2, scratch, ids);
+  bool rational = brute;
+  for (int id : ids)
+    if (id >= static_cast<int>(pieces_.size())) {
+      const auto& c = facets_[static_cast<size_t>(id) - pieces_.size()].occluder.plane;
+      if (side_of_plane(c, p1) == Sign::Zero && side_of_plane(c, p2) == Sign::Zero) rational = true;
+    }
+  std::vector<TInterval>& visible = scratch.result;
+  visible.clear();
+  if (rational) {
+    // In an internal cut plane seen edge-on (or the brute-force reference): exact path.
+    ++out.stats.exact_segments;
+    fill_candidates(ids, keep, exact);
+    out.stats.occlusion_tests += static_cast<long long>(exact.pieces.size());
+    visible = detail::visible_parts_exact(p1, p2, exact, view_, brute);
+    return;
+  }
+  // Nearest pieces first: a piece that hides the whole segment ends the search.
+  std::erase_if(ids, [&](int id) { return id >= static_cast<int>(pieces_.size()); });
+  std::sort(ids.begin(), ids.end(), [&](int x, int y) {
+    return pieces_[static_cast<size_t>(x)].near < pieces_[static_cast<size_t>(y)].near;
+  });
+  parts.clear();
+  for (int id : ids) {
+    const HlrPiece& o = pieces_[static_cast<size_t>(id)];
+    if (!o.volume.clipper || !keep(o)) continue;
+    ++out.stats.occlusion_tests;
+    const std::optional<SegmentPart> part = clip_segment_open(*o.volume.clipper, p1, p2);
+    if (!part) continue;
+    parts.push_back(*part);
+    if (!part->lo.plane && !part->hi.plane) break;  // hidden whole
+  }
+  // Visible: the gaps between the merged hidden parts (exactly positive).
+  merge_parts(parts, p1, p2);
+  const std::vector<SegmentPart>& hidden = parts;
+  SegmentEnd from{0, 0, nullptr};
+  for (const SegmentPart& h : hidden) {
+    if (compare_ends(from, h.lo, p1, p2) == Sign::Negative)
+      visible.emplace_back(from.t, std::max(from.t, h.lo.t));
+    from = h.hi;
+  }
+  if (compare_ends(from, SegmentEnd{1, 0, nullptr}, p1, p2) == Sign::Negative)
+    visible.emplace_back(from.t, 1.0);
+}
+
+void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
+  const Body& body = bodies_[static_cast<size_t>(b)];
+  const HlrBody& bd = data_[static_cast<size_t>(b)];
+  const auto& v = body.vertices();
   for (int e = 0; e < body.edge_count(); ++e) {
     if ((e & 63) == 63) meter_.add(64);  // HlrOptions::progress
     const Edge& edge = body.edges()[static_cast<size_t>(e)];
@@ -347,17 +409,24 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
       coplanar = coplanar && orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
                                            v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
     if (coplanar || end_on(p1, p2)) continue;
-    ++out.stats.edges;
+    // A smooth edge is drawn only when asked, as its own kind.
+    const bool smooth = !bd.classes.empty() && bd.classes[static_cast<size_t>(e)] == EdgeClass::Smooth;
+    if (smooth) {
+      ++out.stats.smooth_edges;
+      if (!options_.smooth) continue;
+    } else {
+      ++out.stats.edges;
+    }
     // Stage 1: an edge between two back faces is hidden by its own body.
     if (bd.facing[static_cast<size_t>(edge.left_face)] == Facing::Back &&
         bd.facing[static_cast<size_t>(edge.right_face)] == Facing::Back) {
+      if (smooth) continue;
       ++out.stats.back_edges;
       if (options_.hidden) add_segment(out.hidden, p1, p2, LineKind::Edge, b, -1, e);
       continue;
     }
     // Stage 2: hidden parts by every piece that may cover the edge in the picture. A convex
     // body does not hide its own front and silhouette edges, so it is skipped.
-    candidates(p1, p2, scratch, ids);
     const int skip = bd.convex ? b : -1;
     // Pieces that may hide (part of) the edge: not its own convex body, not a piece of its
     // own body that it lies on (see incident()).
@@ -365,57 +434,52 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
       if (o.body == skip) return false;
       return o.body != b || !incident(o, edge.left_face, edge.right_face, p1, p2);
     };
-    bool rational = brute;
-    for (int id : ids)
-      if (id >= static_cast<int>(pieces_.size())) {
-        const auto& c = facets_[static_cast<size_t>(id) - pieces_.size()].occluder.plane;
-        if (side_of_plane(c, p1) == Sign::Zero && side_of_plane(c, p2) == Sign::Zero) rational = true;
-      }
-    std::vector<TInterval>& visible = scratch.visible;
-    visible.clear();
-    if (rational) {
-      // In an internal cut plane seen edge-on (or the brute-force reference): exact path.
-      ++out.stats.exact_segments;
-      fill_candidates(ids, keep, exact);
-      out.stats.occlusion_tests += static_cast<long long>(exact.pieces.size());
-      visible = detail::visible_parts_exact(p1, p2, exact, view_, brute);
-    } else {
-      // Nearest pieces first: a piece that hides the whole edge ends the search.
-      std::erase_if(ids, [&](int id) { return id >= static_cast<int>(pieces_.size()); });
-      std::sort(ids.begin(), ids.end(), [&](int x, int y) {
-        return pieces_[static_cast<size_t>(x)].near < pieces_[static_cast<size_t>(y)].near;
-      });
-      parts.clear();
-      for (int id : ids) {
-        const HlrPiece& o = pieces_[static_cast<size_t>(id)];
-        if (!o.volume.clipper || !keep(o)) continue;
-        ++out.stats.occlusion_tests;
-        const std::optional<SegmentPart> part = clip_segment_open(*o.volume.clipper, p1, p2);
-        if (!part) continue;
-        parts.push_back(*part);
-        if (!part->lo.plane && !part->hi.plane) break;  // hidden whole
-      }
-      // Visible: the gaps between the merged hidden parts (exactly positive).
-      merge_parts(parts, p1, p2);
-      const std::vector<SegmentPart>& hidden = parts;
-      SegmentEnd from{0, 0, nullptr};
-      for (const SegmentPart& h : hidden) {
-        if (compare_ends(from, h.lo, p1, p2) == Sign::Negative)
-          visible.emplace_back(from.t, std::max(from.t, h.lo.t));
-        from = h.hi;
-      }
-      if (compare_ends(from, SegmentEnd{1, 0, nullptr}, p1, p2) == Sign::Negative)
-        visible.emplace_back(from.t, 1.0);
-    }
+    visible_parts(p1, p2, keep, scratch, out);
+    const std::vector<TInterval>& visible = scratch.result;
     for (const TInterval& t : visible)
-      add_segment(out.visible, point_at(p1, p2, t.first), point_at(p1, p2, t.second),
-                  LineKind::Edge, b, -1, e);
-    if (options_.hidden) {
+      add_segment(smooth ? out.classes : out.visible, point_at(p1, p2, t.first),
+                  point_at(p1, p2, t.second), smooth ? LineKind::Smooth : LineKind::Edge, b, -1, e);
+    if (options_.hidden && !smooth) {
       complement(visible, scratch.gaps);
       for (const TInterval& t : scratch.gaps)
         add_segment(out.hidden, point_at(p1, p2, t.first), point_at(p1, p2, t.second),
                     LineKind::Edge, b, -1, e);
     }
+  }
+}
+
+bool Roberts::outline_on_piece(const HlrPiece& p, const Vec3& n, const Vec3& a, const Vec3& b) const {
+  const double tol = 64 * kRoundingPlanarity * bodies_[static_cast<size_t>(p.body)].scale();
+  for (int f = 0; f < p.piece.face_count(); ++f) {
+    const Plane& plane = p.piece.plane(f);
+    // Piece planes have inner normals; n is outward.
+    if (-plane.normal().dot(n) <= 0.5) continue;
+    if (std::abs(plane.value(a)) <= tol && std::abs(plane.value(b)) <= tol) return true;
+  }
+  return false;
+}
+
+void Roberts::outline_of(int b, Scratch& scratch, EdgeOutput& out) const {
+  const HlrBody& bd = data_[static_cast<size_t>(b)];
+  if (!bd.any_smooth) return;
+  const Body& body = bodies_[static_cast<size_t>(b)];
+  const std::vector<OutlineSegment> segments =
+      outline(body, view_, options_.crease_angle, surface(b));
+  out.stats.outline_segments += static_cast<int>(segments.size());
+  for (const OutlineSegment& s : segments) {
+    if (s.a == s.b || end_on(s.a, s.b)) continue;
+    // The outline lies on the body's surface where the view ray grazes it: a convex body never
+    // hides it (as its silhouette edges); a piece of a non-convex body that has the segment's
+    // face on its boundary neither (the contour is on its silhouette up to the chordal error).
+    const Vec3 n = -body.inner_normal(s.face);
+    const auto keep = [&](const HlrPiece& o) {
+      if (o.body != b) return true;
+      return !bd.convex && !outline_on_piece(o, n, s.a, s.b);
+    };
+    visible_parts(s.a, s.b, keep, scratch, out);
+    for (const TInterval& t : scratch.result)
+      add_segment(out.classes, point_at(s.a, s.b, t.first), point_at(s.a, s.b, t.second),
+                  LineKind::Outline, b, -1, -1);
   }
 }
 

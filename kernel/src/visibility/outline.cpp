@@ -70,13 +70,18 @@ std::vector<Vec3> corner_normals(const Body& body, double crease_angle_deg,
         }
         // Area-weighted normals of the faces around x that turn from f by at most the crease
         // angle: a crease keeps its two sides apart, a smooth region shares one normal.
+        // A corner where f meets no other face within the crease angle keeps f's normal
+        // exactly, so that outline() knows a flat face (a box's) has no contour.
         Vec3 sum = Vec3::Zero();
+        bool alone = true;
         for (int i = start[static_cast<size_t>(x)]; i < start[static_cast<size_t>(x) + 1]; ++i) {
           const int g = around[static_cast<size_t>(i)];
-          if (normal[static_cast<size_t>(g)].dot(normal[f]) >= cos_crease)
+          if (normal[static_cast<size_t>(g)].dot(normal[f]) >= cos_crease) {
             sum += body.face_area(g) * normal[static_cast<size_t>(g)];
+            alone = alone && static_cast<size_t>(g) == f;
+          }
         }
-        out.push_back(sum.norm() > 0 ? Vec3(sum.normalized()) : normal[f]);
+        out.push_back(!alone && sum.norm() > 0 ? Vec3(sum.normalized()) : normal[f]);
       }
   }
   return out;
@@ -103,13 +108,41 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
     return std::lower_bound(first, last, std::make_pair(x, -1))->second;
   };
 
+  // Singular points of the analytic surface (a cone's apex): the curved faces around the
+  // vertex give it different normals, one per face. Every contour generator passes through
+  // such a point, so n·r counts as 0 there: the contour reaches it from the one triangle
+  // where the sign changes on the opposite side, instead of stopping short at a side.
+  std::vector<char> singular(v.size(), 0);
+  if (surface.is_smooth()) {
+    std::vector<const Vec3*> first(v.size(), nullptr);
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (!curved(surface, outward_normal(body, static_cast<int>(f)))) continue;
+      for (const auto& loop : faces[f].loops)
+        for (int x : loop) {
+          const Vec3& n = normals[static_cast<size_t>(corner(static_cast<int>(f), x))];
+          const Vec3*& seen = first[static_cast<size_t>(x)];
+          if (seen == nullptr) seen = &n;
+          else if (!(*seen - n).isZero(1e-9)) singular[static_cast<size_t>(x)] = 1;
+        }
+    }
+  }
+
   std::vector<OutlineSegment> out;
   for (const Triangle& t : body.triangles()) {
+    // A flat-shaded triangle (every corner on the face's own normal) has n·r of one sign in
+    // exact arithmetic, the sign facing() decides; rounding must not make a contour there
+    // (a box face seen edge-on).
+    const Vec3 face_normal = outward_normal(body, t.face);
+    bool flat = true;
+    for (int k = 0; k < 3; ++k) flat = flat && normals[static_cast<size_t>(corner(t.face, t.v[k]))] == face_normal;
+    if (flat) continue;
     double g[3];
     bool positive[3];
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = v[static_cast<size_t>(t.v[k])];
-      g[k] = normals[static_cast<size_t>(corner(t.face, t.v[k]))].dot(view.ray_to(p));
+      g[k] = singular[static_cast<size_t>(t.v[k])]
+                 ? 0.0
+                 : normals[static_cast<size_t>(corner(t.face, t.v[k]))].dot(view.ray_to(p));
       positive[k] = g[k] >= 0;
     }
     if (positive[0] == positive[1] && positive[1] == positive[2]) continue;

@@ -40,6 +40,23 @@ double HlrResult::length(LineKind kind, bool visible_parts) const {
   return sum;
 }
 
+double HlrResult::picture_length(LineKind kind) const {
+  double sum = 0;
+  for (const HlrSegment& s : visible)
+    if (s.kind == kind) sum += (s.b2 - s.a2).norm();
+  return sum;
+}
+
+namespace {
+
+void check_options(const HlrOptions& options) {
+  if (!(options.crease_angle >= 0 && options.crease_angle <= 180))
+    throw InvalidInput("crease angle " + std::to_string(options.crease_angle) +
+                       " is outside 0..180 degrees");
+}
+
+}  // namespace
+
 std::optional<HiddenPart> hidden_part(const OcclusionVolume& volume, const Vec3& p1,
                                       const Vec3& p2) {
   if (!volume.clipper) return std::nullopt;
@@ -61,11 +78,15 @@ std::string body_name(std::span<const std::string> names, size_t b) {
 // Parallel views and scenes wholly in front go straight to the Roberts pass.
 // Cost: O(V) exact side tests, plus O(n log n) per split body of n triangles.
 HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std::string> names,
-                               const Camera& camera, const HlrOptions& options,
-                               const Eigen::AlignedBox3d& box) {
+                               std::span<const SmoothSurface> surfaces, const Camera& camera,
+                               const HlrOptions& options, const Eigen::AlignedBox3d& box) {
   camera.validate();
+  check_options(options);
+  if (!surfaces.empty() && surfaces.size() != bodies.size())
+    throw InvalidInput("hidden lines: " + std::to_string(surfaces.size()) + " surfaces for " +
+                       std::to_string(bodies.size()) + " bodies");
   if (camera.projection != Camera::Projection::Perspective)
-    return internal::Roberts(bodies, names, camera, options).run();
+    return internal::Roberts(bodies, names, surfaces, camera, options).run();
   // The eye inside or on a body is still an error: nothing of the scene could be seen.
   for (size_t b = 0; b < bodies.size(); ++b) {
     const Body& body = bodies[b];
@@ -86,10 +107,11 @@ HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std
         break;
       }
   }
-  if (!any) return internal::Roberts(bodies, names, camera, options).run();
+  if (!any) return internal::Roberts(bodies, names, surfaces, camera, options).run();
 
   std::vector<Body> kept;
   std::vector<std::string> kept_names;
+  std::vector<SmoothSurface> kept_surfaces;  // the analytic surface does not depend on the cut
   std::vector<int> origin;
   for (size_t b = 0; b < bodies.size(); ++b) {
     std::vector<Body> parts;
@@ -100,11 +122,12 @@ HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std
     for (Body& p : parts) {
       kept.push_back(std::move(p));
       if (!names.empty()) kept_names.push_back(names[b]);
+      if (!surfaces.empty()) kept_surfaces.push_back(surfaces[b]);
       origin.push_back(static_cast<int>(b));
     }
   }
   // Messages of the pass name the input body (a split body's parts keep its name).
-  HlrResult result = internal::Roberts(kept, kept_names, camera, options).run();
+  HlrResult result = internal::Roberts(kept, kept_names, kept_surfaces, camera, options).run();
   // Drop the cut: segments with both ends on the near plane. Their points are rounded
   // intersections with that plane (a few ulps of the coordinates off it), so this is a
   // tolerance on constructed points, not a decision about the input.
@@ -128,20 +151,27 @@ HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std
 }  // namespace
 
 HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera, const HlrOptions& options) {
+  return hidden_lines(bodies, {}, camera, options);
+}
+
+HlrResult hidden_lines(std::span<const Body> bodies, std::span<const SmoothSurface> surfaces,
+                       const Camera& camera, const HlrOptions& options) {
   Eigen::AlignedBox3d box;
   box.setEmpty();
   for (const Body& b : bodies) box.extend(b.bbox());
-  return clipped_hidden_lines(bodies, {}, camera, options, box);
+  return clipped_hidden_lines(bodies, {}, surfaces, camera, options, box);
 }
 
 HlrResult hidden_lines(const Scene& scene, const HlrOptions& options) {
   std::vector<Body> bodies;
   std::vector<std::string> names;
+  std::vector<SmoothSurface> surfaces;
   for (const SceneBody* b : scene.visible_bodies()) {
     bodies.push_back(b->body);
     names.push_back(b->name);
+    surfaces.push_back(b->surface);
   }
-  return clipped_hidden_lines(bodies, names, scene.camera, options, scene.bbox());
+  return clipped_hidden_lines(bodies, names, surfaces, scene.camera, options, scene.bbox());
 }
 
 }  // namespace hedra

@@ -14,6 +14,7 @@
 
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/core/progress.h"
+#include "hedra/visibility/outline.h"
 #include "hedra/visibility/roberts.h"
 #include "visibility/roberts_exact.h"
 
@@ -101,15 +102,17 @@ struct HlrFacet {
 
 struct HlrBody {
   bool convex = true;
+  std::vector<EdgeClass> classes;  // per edge; empty: every edge sharp (crease angle 0)
+  bool any_smooth = false;
   std::vector<Facing> facing;
   std::vector<ExactPlane> planes;  // exact face planes (junctions), filled on demand
 };
 
 class Roberts {
  public:
-  Roberts(std::span<const Body> bodies, std::span<const std::string> names, const Camera& camera,
-          const HlrOptions& options)
-      : bodies_(bodies), names_(names), camera_(camera), options_(options),
+  Roberts(std::span<const Body> bodies, std::span<const std::string> names,
+          std::span<const SmoothSurface> surfaces, const Camera& camera, const HlrOptions& options)
+      : bodies_(bodies), names_(names), surfaces_(surfaces), camera_(camera), options_(options),
         view_(Viewpoint::of(camera)), projection_(camera),
         meter_(options.progress, "hidden lines cancelled") {}
 
@@ -150,12 +153,14 @@ class Roberts {
     std::vector<int> ids;
     std::vector<SegmentPart> parts;
     detail::Candidates exact;
+    std::vector<TInterval> result;
     std::vector<TInterval> visible, gaps;
   };
 
   // Per-body output of stages 1 and 2.
   struct EdgeOutput {
     std::vector<HlrSegment> visible, hidden;
+    std::vector<HlrSegment> classes;  // outlines, then smooth edges: added after the junctions
     HlrStats stats;
   };
 
@@ -195,6 +200,25 @@ class Roberts {
 
   void edges_of(int b, Scratch& scratch, EdgeOutput& out) const;
 
+  // Stage 2 for one segment of body b: the visible parts (t intervals) of p1p2 among the
+  // candidate occluders that `keep` accepts. Cost O(k) clips for k candidates.
+  template <class Keep>
+  void visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch& scratch,
+                     EdgeOutput& out) const;
+
+  // The outline of body b (when it has smooth parts), each segment clipped like an edge.
+  void outline_of(int b, Scratch& scratch, EdgeOutput& out) const;
+
+  // Whether piece p has a face on the plane of the body's face with outward unit normal n
+  // through a and b (within rounding): an outline segment there is on the piece's boundary,
+  // so the piece does not hide it. Cost O(faces of p).
+  bool outline_on_piece(const HlrPiece& p, const Vec3& n, const Vec3& a, const Vec3& b) const;
+
+  const SmoothSurface& surface(int b) const {
+    static const SmoothSurface none;
+    return surfaces_.empty() ? none : surfaces_[static_cast<size_t>(b)];
+  }
+
   // Pairs of bodies whose boxes meet (closed), by sweeping along x; computed once.
   const std::vector<std::pair<int, int>>& touching_pairs();
 
@@ -209,6 +233,7 @@ class Roberts {
 
   std::span<const Body> bodies_;
   std::span<const std::string> names_;
+  std::span<const SmoothSurface> surfaces_;
   Camera camera_;
   HlrOptions options_;
   Viewpoint view_;

@@ -4,6 +4,8 @@
 // surface") while real edges — a cylinder's rim, a box's edges — stay sharp.
 #pragma once
 
+#include <vector>
+
 #include "hedra/core/plane.h"
 #include "hedra/core/transform.h"
 
@@ -28,6 +30,11 @@ class SmoothSurface {
   SmoothSurface transformed(const Transform& t) const;
 
   Kind kind() const { return kind_; }
+
+  /// Every number that defines the surface (19 doubles), for serialising it exactly (Python
+  /// pickling); from_state() rebuilds it bit for bit. \throw InvalidInput on a bad state.
+  std::vector<double> state() const;
+  static SmoothSurface from_state(const std::vector<double>& state);
   bool is_smooth() const { return kind_ != Kind::None; }
 
   /// Whether a face of the body whose outward unit normal is `outward` lies on the curved

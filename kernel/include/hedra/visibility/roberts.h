@@ -13,6 +13,11 @@
 //     them), or, as the reference, by the course's brute-force solution of the (t, a) system;
 //  3. junction lines (edges of A ∩ B lying on a face of A and a face of B, for different
 //     bodies A, B) are added and clipped like edges.
+// Line classes (hedra/visibility/outline.h): an edge whose faces turn by at most the crease
+// angle, or that lies between two faces of one analytic curved surface, is smooth and drawn
+// only when asked; the outline of the smooth parts (the contour n·v = 0 interpolated from
+// corner normals, O(triangles) per body) is clipped like an edge. Polyhedra whose edges are
+// all sharp (boxes) are drawn exactly as without classes.
 // Non-convex bodies take part through their exact convex decomposition (hedra/decompose):
 // their own edges and faces are drawn, never the cuts; the pieces hide everything behind
 // them, including other parts of their own body.
@@ -27,6 +32,7 @@
 
 #include "hedra/core/body.h"
 #include "hedra/core/progress.h"
+#include "hedra/core/smooth_surface.h"
 #include "hedra/scene/camera.h"
 #include "hedra/visibility/occlusion.h"
 #include "hedra/scene/scene.h"
@@ -56,7 +62,9 @@ class PictureProjection {
   Vec3 eye_ = Vec3::Zero(), axis_ = Vec3(0, 0, -1), right_ = Vec3(1, 0, 0), up_ = Vec3(0, 1, 0);
 };
 
-enum class LineKind { Edge, Junction };
+/// Edge: a sharp edge (or every drawable edge with crease angle 0). Outline: a piece of the
+/// contour of a smooth region. Smooth: a smooth edge (HlrOptions::smooth).
+enum class LineKind { Edge, Junction, Outline, Smooth };
 
 /// A visible or hidden part of an edge, or a visible part of a junction line.
 struct HlrSegment {
@@ -65,7 +73,8 @@ struct HlrSegment {
   LineKind kind = LineKind::Edge;
   int body = -1;        // the body of the edge; for a junction, the first of its two bodies
   int other_body = -1;  // junction: the second body
-  int edge = -1;        // edge index in bodies[body].edges(); −1 once merged with a coincident edge
+  int edge = -1;        // edge index in bodies[body].edges(); −1 once merged with a coincident
+                        // edge, and for an outline
 };
 
 struct HlrOptions {
@@ -84,6 +93,12 @@ struct HlrOptions {
   /// Edges of different bodies on one line (stacked boxes) are drawn once: their parts are
   /// merged along the line (decided exactly). Off: one list entry per edge part.
   bool merge_coincident = true;
+  /// Edges whose faces turn by at most this angle (degrees, 0..180) are smooth: not drawn
+  /// unless `smooth`; the outline of smooth regions is drawn instead. 0: every edge is sharp
+  /// and no outline is drawn (every facet edge, as without line classes).
+  double crease_angle = 30;
+  /// Also draw the visible parts of smooth edges (LineKind::Smooth).
+  bool smooth = false;
   /// Progress and cancellation (hedra/core/progress.h): the fraction done, on the calling
   /// thread; returning false stops the work with hedra::Cancelled and no result.
   ProgressCallback progress;
@@ -98,15 +113,25 @@ struct HlrStats {
   int exact_segments = 0;     // segments in an edge-on internal cut plane (rational path)
   int junction_segments = 0;  // junction segments before visibility
   int grid_cells = 0;
+  int smooth_edges = 0;       // edges classified smooth (drawn only with HlrOptions::smooth)
+  int outline_segments = 0;   // outline segments before visibility
 };
 
 struct HlrResult {
-  std::vector<HlrSegment> visible;  // edges first, then junction lines
-  std::vector<HlrSegment> hidden;   // edges only, when HlrOptions::hidden
+  /// Sharp edges first, then junction lines, then outlines, then smooth edges (when asked).
+  std::vector<HlrSegment> visible;
+  std::vector<HlrSegment> hidden;   // sharp edges only, when HlrOptions::hidden
   Eigen::AlignedBox2d picture_box;  // projection of every vertex of the scene
   HlrStats stats;
   /// Total 3D length of the visible (or hidden) segments of a kind.
   double length(LineKind kind, bool visible = true) const;
+  /// Total picture-plane length of the visible segments of a kind.
+  double picture_length(LineKind kind) const;
+  /// Whether the scene has smooth parts (smooth edges or outlines): the reports then list
+  /// the outline.
+  bool has_smooth() const { return stats.smooth_edges > 0 || stats.outline_segments > 0; }
+  /// Whether smooth edges were asked for (HlrOptions::smooth): the reports then list them.
+  bool smooth_listed = false;
 };
 
 /// Hidden-line removal for the bodies seen by `camera`.
@@ -118,9 +143,16 @@ struct HlrResult {
 /// edge = −1.
 /// \throw InvalidInput naming the body when the perspective eye is inside or on a body.
 /// Cost: O(E·k) for E edges each meeting k pieces in the picture, plus the decompositions
-/// (and O(n log n) per body of n triangles that crosses the near plane).
+/// (and O(n log n) per body of n triangles that crosses the near plane); bodies with smooth
+/// parts add O(T) for the outline of their T triangles (O(√T) segments on a smooth body, each
+/// clipped like an edge).
 HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera,
                        const HlrOptions& options = {});
+/// The same with the analytic surface of each body (empty, or one per body; Kind::None for a
+/// polyhedron): its curved faces meet in smooth edges and give outlines with analytic normals.
+/// \throw InvalidInput when the crease angle is outside 0..180 or the sizes differ.
+HlrResult hidden_lines(std::span<const Body> bodies, std::span<const SmoothSurface> surfaces,
+                       const Camera& camera, const HlrOptions& options = {});
 /// The visible bodies of a scene with its camera; messages name the bodies. The near plane is
 /// the one of the scene's box, exactly as render() clips.
 HlrResult hidden_lines(const Scene& scene, const HlrOptions& options = {});

@@ -23,6 +23,8 @@ struct SvgStyle {
   double visible_px = 1.5;
   double junction_px = 1.5;
   double hidden_px = 1.0;
+  double outline_px = 1.5;         // outlines of smooth parts (HlrResult::has_smooth())
+  double smooth_px = 0.75;         // smooth edges (HlrResult::smooth_listed)
   bool hidden = false;             // draw HlrResult::hidden, dashed
   double margin = kViewMargin;     // free fraction of the image on each side
   Vec3 background = Vec3(1, 1, 1);
