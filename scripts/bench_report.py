@@ -17,6 +17,7 @@ import matplotlib
 
 from bench_common import by_run_name as runs, fmt_times as fmt_ms, machine, times_ms as ms
 from clip_report import clipping
+from faces_report import faces_scaling
 from hlr_report import hidden_lines
 from lod_report import lod
 from render_report import rendering
@@ -157,7 +158,7 @@ def decomposition(results, docs, quick):
     return "\n".join(lines) + "\n"
 
 
-SECTIONS = [decomposition, clipping, hidden_lines, shadows, rendering, lod]
+SECTIONS = [decomposition, clipping, hidden_lines, shadows, rendering, lod, faces_scaling]
 
 
 def main():

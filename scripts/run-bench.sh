@@ -23,6 +23,13 @@ for bin in "$build"/*_bench; do
     --benchmark_repetitions=$reps "${flags[@]}"
   echo "== $name: $((SECONDS - t0)) s"
 done
+if [ -x "$build/hedra" ]; then
+  # Faces scaling: whole processes of the command at t = 1e-2 ... 1e-5 and a 1 M-triangle mesh.
+  t0=$SECONDS
+  echo "== faces scaling (scripts/faces_scaling.py)"
+  /usr/bin/python3 scripts/faces_scaling.py "$build/hedra" "$out" ${HEDRA_BENCH_QUICK:+--quick}
+  echo "== faces scaling: $((SECONDS - t0)) s"
+fi
 echo "== all benchmarks: $((SECONDS - start)) s"
 /usr/bin/python3 scripts/bench_report.py "$out" docs
 if [ -x "$build/hedra" ]; then /usr/bin/python3 scripts/render_figures.py "$build/hedra" docs; fi

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <optional>
 
 #include "hedra/io/atomic_file.h"
 #include "obj.h"
@@ -11,6 +12,7 @@
 #include "stl.h"
 #include "hedra/io/text_reader.h"
 #include "hedra/core/error.h"
+#include "hedra/mesh/self_intersection.h"
 
 namespace hedra::io {
 
@@ -38,10 +40,36 @@ PolygonSoup read_soup(const std::string& path) {
   throw InvalidInput(path + ": unknown format");
 }
 
+namespace {
+
+// The first body that intersects itself, as "component 1: faces 3 and 7 intersect near (…)".
+std::optional<std::string> self_intersection(const std::vector<Body>& bodies) {
+  for (size_t c = 0; c < bodies.size(); ++c)
+    if (const auto hit = find_self_intersection(bodies[c]))
+      return (bodies.size() > 1 ? "component " + std::to_string(c) + ": " : std::string()) +
+             describe(*hit);
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::vector<Body> read_bodies(const std::string& path, const ReadOptions& options) {
   PolygonSoup soup = read_soup(path);
   try {
-    return bodies_from_soup(soup, options.merge);
+    std::vector<Body> bodies = bodies_from_soup(soup, options.merge);
+    // Validation up front (docs/io.md): every body read is checked for self-intersection, so
+    // no command is asked about a polyhedron that does not exist.
+    auto hit = self_intersection(bodies);
+    if (hit && options.merge.coplanar_tolerance > 0 && options.merge.planarity_tolerance < 0) {
+      // Snapping moved vertices (by at most the tolerance); if that made the surface touch
+      // itself, the exactly merged input is taken, as for any other failure of snapping.
+      MergeOptions exact = options.merge;
+      exact.coplanar_tolerance = 0;
+      bodies = bodies_from_soup(soup, exact);
+      hit = self_intersection(bodies);
+    }
+    if (hit) throw InvalidInput("the surface intersects itself: " + *hit);
+    return bodies;
   } catch (const InvalidInput& e) {
     throw InvalidInput(path + ": " + e.what());
   }

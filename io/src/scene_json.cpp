@@ -13,6 +13,7 @@
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/text_reader.h"
 #include "hedra/mesh/boolean.h"
+#include "hedra/mesh/self_intersection.h"
 #include "hedra/core/error.h"
 #include "hedra/scene/lod.h"
 #include "hedra/core/primitives.h"
@@ -480,6 +481,11 @@ class SceneReader {
     try {
       body = build(shape, s, t, scene, note, surface);
       if (!t.matrix().isIdentity()) body = body->transformed(t);
+      // Validation up front (docs/io.md): bodies given by their vertices are checked for
+      // self-intersection; a "mesh" file was checked when read, and again when a transform
+      // rounded its vertices. Primitives and Booleans are valid by construction.
+      if (shape == "polyhedron" || (shape == "mesh" && !t.matrix().isIdentity()))
+        check_no_self_intersection(*body);
       surface = surface.transformed(t);
     } catch (const InvalidInput& e) {
       if (std::string(e.what()).rfind(path_ + ":", 0) == 0) throw;

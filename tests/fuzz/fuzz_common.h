@@ -9,6 +9,7 @@
 
 #include "hedra/core/error.h"
 #include "hedra/mesh/merge_coplanar.h"
+#include "hedra/mesh/self_intersection.h"
 
 namespace hedra::fuzz {
 
@@ -30,12 +31,14 @@ void rejecting_cleanly(F f) {
 }
 
 /// A mesh reader end to end: parse, then (for soups small enough to keep the run fast) the
-/// checks and merging that turn polygons into validated bodies, as io::read_bodies does.
+/// checks and merging that turn polygons into validated bodies, and the self-intersection
+/// check, as io::read_bodies does.
 template <class Parse>
 void mesh_reader(const std::string& path, const std::string& bytes, Parse parse) {
   rejecting_cleanly([&] {
     const PolygonSoup soup = parse(path, bytes);
-    if (soup.polygons.size() <= 256 && soup.vertices.size() <= 1024) bodies_from_soup(soup);
+    if (soup.polygons.size() <= 256 && soup.vertices.size() <= 1024)
+      for (const Body& body : bodies_from_soup(soup)) find_self_intersection(body);
   });
 }
 

@@ -21,6 +21,7 @@
 #include "hedra/mesh/boolean.h"
 #include "hedra/mesh/convexity.h"
 #include "hedra/mesh/merge_coplanar.h"
+#include "hedra/mesh/self_intersection.h"
 #include "hedra/core/triangulate.h"
 
 // decompose

@@ -92,7 +92,8 @@ void check_faces(const std::vector<Face>& faces, size_t vertex_count) {
 }
 
 // Stage: orientation, closedness, manifold vertices; builds the edge list.
-std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_count) {
+std::vector<Edge> check_topology(const std::vector<Face>& faces, const std::vector<Vec3>& vertices) {
+  const size_t vertex_count = vertices.size();
   // Half-edges h in traversal order (face, loop, position), grouped by their start vertex and
   // sorted by end vertex inside each group (counting sort, then a sort of each small group):
   // finding a directed edge is a binary search among the edges leaving one vertex. Cost
@@ -181,7 +182,8 @@ std::vector<Edge> check_topology(const std::vector<Face>& faces, size_t vertex_c
   if (boundary > 0)
     throw InvalidInput("not closed: " + str(boundary) + " boundary edge" +
                        (boundary > 1 ? "s" : "") + ", first between vertices " + str(bound_a) +
-                       " and " + str(bound_b));
+                       " " + vec(vertices[static_cast<size_t>(bound_a)]) + " and " + str(bound_b) +
+                       " " + vec(vertices[static_cast<size_t>(bound_b)]));
 
   // Manifold vertices: the corners around each vertex form one cycle. The corner at the start
   // of half-edge h (v → w, entered by prev(h) = u → v) is followed around v by the corner of
@@ -218,7 +220,7 @@ double body_scale(const std::vector<Vec3>& vertices, const Eigen::AlignedBox3d& 
 void check_polygon_mesh(const std::vector<Vec3>& vertices, const std::vector<Face>& faces) {
   check_vertices(vertices);
   check_faces(faces, vertices.size());
-  check_topology(faces, vertices.size());
+  check_topology(faces, vertices);
 }
 
 Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOptions& options) {
@@ -226,7 +228,7 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   // Stage: combinatorial validation.
   check_vertices(vertices);
   check_faces(faces, vertices.size());
-  impl->edges = check_topology(faces, vertices.size());
+  impl->edges = check_topology(faces, vertices);
 
   impl->bbox.setEmpty();
   for (const Vec3& p : vertices) impl->bbox.extend(p);

@@ -307,6 +307,37 @@ void Roberts::build_index() {
   grid_.build(boxes, result_.picture_box);
   result_.stats.grid_cells = grid_.cells();
   occluder_count_ = boxes.size();
+  occluder_box_ = std::move(boxes);
+  occluder_near_.clear();
+  for (const HlrPiece& p : pieces_) occluder_near_.push_back(p.near);
+  for (const HlrFacet& f : facets_) occluder_near_.push_back(f.near);
+  by_near_.resize(pieces_.size());
+  std::iota(by_near_.begin(), by_near_.end(), 0);
+  std::sort(by_near_.begin(), by_near_.end(), [&](int x, int y) {
+    const double nx = pieces_[static_cast<size_t>(x)].near, ny = pieces_[static_cast<size_t>(y)].near;
+    return nx < ny || (nx == ny && x < y);
+  });
+  near_rank_.resize(pieces_.size());
+  for (size_t r = 0; r < by_near_.size(); ++r) near_rank_[static_cast<size_t>(by_near_[r])] = static_cast<int>(r);
+}
+
+void Roberts::near_first(std::vector<int>& ids, Scratch& scratch) const {
+  const int pieces = static_cast<int>(pieces_.size());
+  const auto facet_start = std::stable_partition(ids.begin(), ids.end(), [&](int id) { return id < pieces; });
+  const size_t k = static_cast<size_t>(facet_start - ids.begin());
+  if (k < 2) return;
+  if (k * 16 < pieces_.size()) {
+    std::sort(ids.begin(), facet_start, [&](int x, int y) {
+      return near_rank_[static_cast<size_t>(x)] < near_rank_[static_cast<size_t>(y)];
+    });
+    return;
+  }
+  if (scratch.mark.size() != pieces_.size()) scratch.mark.assign(pieces_.size(), 0), scratch.mark_current = 0;
+  const unsigned m = ++scratch.mark_current;
+  for (auto it = ids.begin(); it != facet_start; ++it) scratch.mark[static_cast<size_t>(*it)] = m;
+  auto out = ids.begin();
+  for (int id : by_near_)
+    if (scratch.mark[static_cast<size_t>(id)] == m) *out++ = id;
 }
 
 void Roberts::candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::vector<int>& out) const {
@@ -314,13 +345,8 @@ void Roberts::candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::ve
   const Vec2 a2 = projection_.project(a), b2 = projection_.project(b);
   const double far = std::max(projection_.depth(a), projection_.depth(b));
   const auto consider = [&](int id) {
-    const bool piece = id < static_cast<int>(pieces_.size());
-    const Eigen::AlignedBox2d& box = piece ? pieces_[static_cast<size_t>(id)].box
-                                           : facets_[static_cast<size_t>(id) - pieces_.size()].box;
-    const double near = piece ? pieces_[static_cast<size_t>(id)].near
-                              : facets_[static_cast<size_t>(id) - pieces_.size()].near;
-    if (near >= far) return;  // wholly behind the segment: cannot hide it
-    if (!segment_meets_box(a2, b2, box)) return;
+    if (occluder_near_[static_cast<size_t>(id)] >= far) return;  // wholly behind: cannot hide it
+    if (!segment_meets_box(a2, b2, occluder_box_[static_cast<size_t>(id)])) return;
     out.push_back(id);
   };
   if (!options_.spatial_index || options_.stage2 == HlrOptions::Stage2::BruteForce) {
@@ -368,9 +394,7 @@ void Roberts::visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch
   }
   // Nearest pieces first: a piece that hides the whole segment ends the search.
   std::erase_if(ids, [&](int id) { return id >= static_cast<int>(pieces_.size()); });
-  std::sort(ids.begin(), ids.end(), [&](int x, int y) {
-    return pieces_[static_cast<size_t>(x)].near < pieces_[static_cast<size_t>(y)].near;
-  });
+  near_first(ids, scratch);
   parts.clear();
   for (int id : ids) {
     const HlrPiece& o = pieces_[static_cast<size_t>(id)];

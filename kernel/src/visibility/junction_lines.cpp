@@ -115,12 +115,22 @@ void Roberts::junctions() {
   const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
   Scratch scratch;
   std::vector<int> ids;
+  detail::ExactPlaneCache cache;
+  // Faces facing strictly away of each convex body: junctions on them are hidden by the body.
+  std::vector<std::vector<bool>> back(bodies_.size());
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    if (!data_[b].convex) continue;
+    back[b].resize(data_[b].facing.size());
+    for (size_t f = 0; f < back[b].size(); ++f) back[b][f] = data_[b].facing[f] == Facing::Back;
+  }
   for (const auto& [i, j] : touching_pairs()) {
     meter_.add();  // HlrOptions::progress
     // A junction segment lies on face fa of body i and face fb of body j.
     const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
                                              detail::Candidates& out) {
       candidates(a, b, scratch, ids);
+      // Nearest first: a piece that hides the whole segment ends its test.
+      near_first(ids, scratch);
       fill_candidates(ids, [&](const HlrPiece& o) {
         // A convex body's own volume decides exactly (the junction lies exactly on its
         // face's support plane); a piece of a non-convex one only if not incident.
@@ -132,7 +142,8 @@ void Roberts::junctions() {
     int found = 0;
     const std::vector<detail::JunctionPart> parts = detail::junction_lines(
         bodies_[static_cast<size_t>(i)], bodies_[static_cast<size_t>(j)], body_planes(i),
-        body_planes(j), view_, query, brute, found);
+        body_planes(j), view_, query, brute, found, back[static_cast<size_t>(i)],
+        back[static_cast<size_t>(j)], &cache);
     result_.stats.junction_segments += found;
     for (const auto& p : parts) add_segment(result_.visible, p.a, p.b, LineKind::Junction, i, j, -1);
   }

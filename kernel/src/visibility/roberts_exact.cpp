@@ -6,11 +6,15 @@
 #include "visibility/roberts_exact.h"
 
 #include <CGAL/Gmpq.h>
+#include <CGAL/Interval_nt.h>
 #include <CGAL/Mpzf.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <unordered_map>
 
 #include "hedra/core/error.h"
 
@@ -21,10 +25,14 @@ using Q = CGAL::Mpzf;
 
 int sgn(const Q& x) { return static_cast<int>(x.sign()); }
 
+// Enclosing intervals of the four homogeneous numbers of a plane or a point (filter).
+using Bounds = std::array<std::pair<double, double>, 4>;
+
 // A plane f(X, W) = n·X + k·W, inner side positive, exactly the ExactPlane's affine function.
 struct HPlane {
   std::array<Q, 3> n{Q(0), Q(0), Q(0)};
   Q k{0};
+  Bounds bounds{};  // of n and k, for the interval filter of signs
 };
 
 // A point (X, W), W > 0.
@@ -56,6 +64,8 @@ HPlane hplane(const ExactPlane& f) {
     for (Q& v : h.n) v = Q(0) - v;
     h.k = Q(0) - h.k;
   }
+  for (int i = 0; i < 3; ++i) h.bounds[static_cast<size_t>(i)] = CGAL::to_interval(h.n[static_cast<size_t>(i)]);
+  h.bounds[3] = CGAL::to_interval(h.k);
   return h;
 }
 
@@ -80,6 +90,25 @@ Q eval_direction(const HPlane& f, const Vec3& d) {
 Q viewer_value(const HPlane& f, const Viewpoint& view) {
   if (view.at_infinity) return Q(0) - eval_direction(f, view.direction);
   return eval(f, hpoint(view.point));
+}
+
+Bounds bounds_of(const HPoint& p) {
+  return {CGAL::to_interval(p.x[0]), CGAL::to_interval(p.x[1]), CGAL::to_interval(p.x[2]),
+          CGAL::to_interval(p.w)};
+}
+
+// sgn(eval(f, p)), decided by interval arithmetic when it can (almost always) and exactly
+// otherwise: the same sign either way.
+int sign_at(const HPlane& f, const HPoint& p, const Bounds& pb) {
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    using I = CGAL::Interval_nt_advanced;
+    I v = I(f.bounds[0]) * I(pb[0]);
+    for (size_t i = 1; i < 4; ++i) v += I(f.bounds[i]) * I(pb[i]);
+    if (v.inf() > 0) return 1;
+    if (v.sup() < 0) return -1;
+  }
+  return sgn(eval(f, p));
 }
 
 // A parameter num/den on a segment, den > 0.
@@ -114,11 +143,13 @@ struct Interval {
 std::optional<Interval> clip_open_exact(std::span<const HPlane> planes, const HPoint& p1,
                                         const HPoint& p2) {
   Frac lo{Q(0), Q(1)}, hi{Q(1), Q(1)};
+  const Bounds b1 = bounds_of(p1), b2 = bounds_of(p2);
   for (const HPlane& f : planes) {
-    const Q f1 = eval(f, p1), f2 = eval(f, p2);
-    const int s1 = sgn(f1), s2 = sgn(f2);
+    // Signs first (filtered); the exact values only for a plane the segment crosses.
+    const int s1 = sign_at(f, p1, b1), s2 = sign_at(f, p2, b2);
     if (s1 <= 0 && s2 <= 0) return std::nullopt;  // outside, or on the plane: nothing strictly in
     if (s1 > 0 && s2 > 0) continue;
+    const Q f1 = eval(f, p1), f2 = eval(f, p2);
     const Q a = f1 * p2.w, b = f2 * p1.w;
     const Frac t = frac(a, a - b);
     if (s1 <= 0) {
@@ -224,19 +255,45 @@ std::vector<HPlane> hplanes(std::span<const ExactPlane> planes) {
   return out;
 }
 
-// The visible parts of P1P2 (fractions) against the candidates, exactly.
+}  // namespace
+
+struct ExactPlaneCache::Impl {
+  std::unordered_map<const void*, std::vector<HPlane>> planes;
+};
+ExactPlaneCache::ExactPlaneCache() : impl(std::make_unique<Impl>()) {}
+ExactPlaneCache::~ExactPlaneCache() = default;
+
+namespace {
+
+// hplanes(planes), from the cache when there is one (keyed by the occluder's plane list).
+const std::vector<HPlane>& cached_hplanes(const std::vector<ExactPlane>& planes,
+                                          ExactPlaneCache* cache, std::vector<HPlane>& local) {
+  if (!cache) return local = hplanes(planes);
+  auto [it, added] = cache->impl->planes.try_emplace(&planes);
+  if (added) it->second = hplanes(planes);
+  return it->second;
+}
+
+// The visible parts of P1P2 (fractions) against the candidates, exactly. A candidate that hides
+// the whole segment ends the search (the rest cannot change the answer).
 std::vector<Interval> visible_fracs(const HPoint& p1, const HPoint& p2, const Candidates& cand,
-                                    const Viewpoint& view, bool brute) {
+                                    const Viewpoint& view, bool brute,
+                                    ExactPlaneCache* cache = nullptr) {
   std::vector<Interval> hidden;
+  std::vector<HPlane> local;
+  const Frac start{Q(0), Q(1)}, end{Q(1), Q(1)};
   for (const PieceOccluder* o : cand.pieces) {
     std::optional<Interval> part;
     if (brute) {
-      part = hidden_brute_force(hplanes(*o->faces), view, p1, p2);
+      part = hidden_brute_force(cached_hplanes(*o->faces, cache, local), view, p1, p2);
     } else {
       if (!o->volume) continue;
-      part = clip_open_exact(hplanes(o->volume->planes()), p1, p2);
+      part = clip_open_exact(cached_hplanes(o->volume->planes(), cache, local), p1, p2);
     }
-    if (part) hidden.push_back(std::move(*part));
+    if (part) {
+      if (cmp(part->lo, start) <= 0 && cmp(part->hi, end) >= 0) return {};
+      hidden.push_back(std::move(*part));
+    }
   }
   for (const FacetOccluder* f : cand.facets) {
     const HPlane c = hplane(f->plane);
@@ -380,9 +437,12 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          const std::vector<ExactPlane>& planes_a,
                                          const std::vector<ExactPlane>& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
-                                         bool brute, int& found) {
+                                         bool brute, int& found, const std::vector<bool>& back_a,
+                                         const std::vector<bool>& back_b, ExactPlaneCache* cache) {
   std::vector<JunctionPart> out;
   std::vector<Eigen::AlignedBox3d> boxes_b;
+  // B's exact planes built on first use (only faces near A's are ever needed), then reused.
+  std::vector<std::optional<HPlane>> hplanes_b(static_cast<size_t>(b.face_count()));
   for (int fb = 0; fb < b.face_count(); ++fb) boxes_b.push_back(face_box(b, fb));
   Candidates candidates;
   for (int fa = 0; fa < a.face_count(); ++fa) {
@@ -391,7 +451,9 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
     const HPlane ha = hplane(planes_a[static_cast<size_t>(fa)]);
     for (int fb = 0; fb < b.face_count(); ++fb) {
       if (!box_a.intersects(boxes_b[static_cast<size_t>(fb)])) continue;
-      const HPlane hb = hplane(planes_b[static_cast<size_t>(fb)]);
+      std::optional<HPlane>& cached_b = hplanes_b[static_cast<size_t>(fb)];
+      if (!cached_b) cached_b = hplane(planes_b[static_cast<size_t>(fb)]);
+      const HPlane& hb = *cached_b;
       // Direction of L = na × nb; parallel planes have no junction line.
       const Q dir[3] = {ha.n[1] * hb.n[2] - ha.n[2] * hb.n[1], ha.n[2] * hb.n[0] - ha.n[0] * hb.n[2],
                         ha.n[0] * hb.n[1] - ha.n[1] * hb.n[0]};
@@ -406,6 +468,9 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
       const std::vector<Span> sa = face_spans(a, fa, planes_b[static_cast<size_t>(fb)], hb, axis);
       if (sa.empty()) continue;
       const std::vector<Span> sb = face_spans(b, fb, planes_a[static_cast<size_t>(fa)], ha, axis);
+      // On a back face of a convex body: hidden by that body (counted, not tested).
+      const bool hidden_by_own = (!back_a.empty() && back_a[static_cast<size_t>(fa)]) ||
+                                 (!back_b.empty() && back_b[static_cast<size_t>(fb)]);
       // Intersection of the two sorted span lists.
       size_t i = 0, j = 0;
       while (i < sa.size() && j < sb.size()) {
@@ -414,11 +479,16 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
         const HPoint& hi = a_first ? sa[i].hi : sb[j].hi;
         if (cmp_along(lo, hi, axis) < 0) {
           ++found;
+          if (hidden_by_own) {
+            if (a_first) ++i;
+            else ++j;
+            continue;
+          }
           const Vec3 ra = rounded(lo), rb = rounded(hi);
           candidates.pieces.clear();
           candidates.facets.clear();
           query(ra, rb, fa, fb, candidates);
-          for (const Interval& v : visible_fracs(lo, hi, candidates, view, brute)) {
+          for (const Interval& v : visible_fracs(lo, hi, candidates, view, brute, cache)) {
             JunctionPart part{point_at(lo, hi, v.lo), point_at(lo, hi, v.hi)};
             if (part.a != part.b) out.push_back(part);
           }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <utility>
@@ -40,6 +41,16 @@ struct Candidates {
   std::vector<const FacetOccluder*> facets;
 };
 
+/// The exact (Mpzf) planes of occluders, built once per occluder and reused by every junction
+/// segment tested against it (building them dominated junction lines). Not thread-safe.
+class ExactPlaneCache {
+ public:
+  ExactPlaneCache();
+  ~ExactPlaneCache();
+  struct Impl;
+  std::unique_ptr<Impl> impl;
+};
+
 /// Visible parts [t0, t1] (t rounded, ascending, positive length) of segment p1p2 against the
 /// candidates, every decision and every intermediate value exact: hidden parts are the open
 /// parts strictly inside each piece's occlusion volume (or, with `brute_force`, the course's
@@ -59,7 +70,13 @@ std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
 /// in the relative interior of a face of A and of a face of B whose planes cross. End points
 /// (crossings of edges with face planes: the course's penetration points, docs/algorithms.md §6.5)
 /// are exact homogeneous points; visibility is decided by `query`'s candidates as in
-/// visible_parts_exact. `found` counts junction segments before visibility.
+/// visible_parts_exact, tried in the order given (nearest first pays: a candidate that hides a
+/// whole segment ends its test). `found` counts junction segments before visibility.
+/// `back_a` / `back_b` (empty when the body is not convex): faces strictly facing away from the
+/// viewer of a convex body; a junction in the relative interior of such a face is hidden by its
+/// own body, so it is skipped without a test.
+/// Cost: O(Fa·Fb) box tests, and per junction segment O(candidates · planes) exact evaluations
+/// at most (usually far fewer with the early end).
 struct JunctionPart {
   Vec3 a, b;
 };
@@ -70,6 +87,9 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          const std::vector<ExactPlane>& planes_a,
                                          const std::vector<ExactPlane>& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
-                                         bool brute_force, int& found);
+                                         bool brute_force, int& found,
+                                         const std::vector<bool>& back_a = {},
+                                         const std::vector<bool>& back_b = {},
+                                         ExactPlaneCache* cache = nullptr);
 
 }  // namespace hedra::detail

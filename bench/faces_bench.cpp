@@ -1,0 +1,204 @@
+// Faces scaling (issue 15), the in-process half: hidden lines of one scene, a ground slab
+// (8 × 8 × 0.5), a sphere (r = 1.5) and a cylinder (r = 0.8, h = 2.5) at chordal tolerance
+// t = 1e-2 … 1e-5 (quick: … 1e-4), parallel view along (−1, −1, −1):
+//  - hedra: `hidden_lines` on the tessellated bodies (building the bodies is not timed);
+//  - OCCT: `HLRBRep_PolyAlgo` on the same analytic shapes meshed by `BRepMesh_IncrementalMesh`
+//    at linear deflection t (the same chordal tolerance); the meshing time is reported apart
+//    (counter mesh_ms) and not timed, like hedra's tessellation; t ≤ 1e-4 only (see
+//    occt_tolerances).
+// The whole-process half (info, hlr, shadows, render: CPU time and peak memory per face, and a
+// 1 M-triangle mesh file) is scripts/faces_scaling.py; scripts/faces_report.py writes the
+// "Faces scaling" section of docs/benchmarks.md from both.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <utility>
+#include <optional>
+#include <vector>
+
+#include "hedra/core/primitives.h"
+#include "hedra/core/transform.h"
+#include "hedra/visibility/roberts.h"
+
+#if HEDRA_HAVE_OCCT
+// Shapes from surfaces and sewing: Debian's OCCT 7.6 headers for BRepPrimAPI need a header the
+// packages lack (NCollection_AliasedArray.hxx).
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeShell.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepGProp.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <Geom_CylindricalSurface.hxx>
+#include <Geom_SphericalSurface.hxx>
+#include <GProp_GProps.hxx>
+#include <HLRAlgo_Projector.hxx>
+#include <HLRBRep_PolyAlgo.hxx>
+#include <HLRBRep_PolyHLRToShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Builder.hxx>
+#include <TopoDS_Compound.hxx>
+#endif
+
+namespace {
+
+using namespace hedra;
+
+bool quick() { return std::getenv("HEDRA_BENCH_QUICK") != nullptr; }
+
+// The scene of scripts/faces_scaling.py, kept in step with it.
+const Vec3 kSlabMin(-4, -4, -0.5), kSlabMax(4, 4, 0);
+const Vec3 kBallCentre(-1.5, 0, 1.5);
+constexpr double kBallRadius = 1.5, kCanRadius = 0.8, kCanHeight = 2.5;
+const Vec3 kCanAt(2, 1, 0);
+constexpr int kMaxFaces = 2000000;
+
+double tolerance_of(const benchmark::State& state) { return std::pow(10.0, -static_cast<double>(state.range(0))); }
+
+std::vector<Body> hedra_scene(double t) {
+  return {box(kSlabMin, kSlabMax), sphere(kBallCentre, kBallRadius, t, kMaxFaces),
+          cylinder(kCanRadius, 0, kCanHeight, t, kMaxFaces).transformed(Transform::translation(kCanAt))};
+}
+
+const Camera kCamera = Camera::parallel({-1, -1, -1});
+
+void BM_FacesHedraHlr(benchmark::State& state) {
+  const std::vector<Body> bodies = hedra_scene(tolerance_of(state));
+  long faces = 0;
+  for (const Body& b : bodies) faces += b.face_count();
+  HlrResult r;
+  for (auto _ : state) {
+    r = hidden_lines(bodies, kCamera);
+    benchmark::DoNotOptimize(r.visible.data());
+  }
+  state.counters["faces"] = static_cast<double>(faces);
+  state.counters["visible_length"] = r.length(LineKind::Edge);
+}
+
+#if HEDRA_HAVE_OCCT
+TopoDS_Shape occt_box(const Vec3& lo, const Vec3& hi) {
+  gp_Pnt p[8];
+  for (int i = 0; i < 8; ++i)
+    p[i] = gp_Pnt(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  const int f[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  BRepBuilderAPI_Sewing sew;
+  for (const auto& q : f) {
+    BRepBuilderAPI_MakePolygon poly(p[q[0]], p[q[1]], p[q[2]], p[q[3]], Standard_True);
+    sew.Add(BRepBuilderAPI_MakeFace(poly.Wire(), Standard_True).Face());
+  }
+  sew.Perform();
+  return BRepBuilderAPI_MakeSolid(TopoDS::Shell(sew.SewedShape())).Solid();
+}
+
+TopoDS_Shape occt_sphere() {
+  const Handle(Geom_SphericalSurface) s = new Geom_SphericalSurface(
+      gp_Ax3(gp_Pnt(kBallCentre.x(), kBallCentre.y(), kBallCentre.z()), gp::DZ()), kBallRadius);
+  return BRepBuilderAPI_MakeSolid(BRepBuilderAPI_MakeShell(s).Shell()).Solid();
+}
+
+TopoDS_Shape occt_cylinder() {
+  const gp_Ax3 axis(gp_Pnt(kCanAt.x(), kCanAt.y(), kCanAt.z()), gp::DZ());
+  const Handle(Geom_CylindricalSurface) s = new Geom_CylindricalSurface(axis, kCanRadius);
+  BRepBuilderAPI_Sewing sew;
+  sew.Add(BRepBuilderAPI_MakeFace(s, 0, 2 * M_PI, 0, kCanHeight, 1e-7).Face());
+  for (double z : {0.0, kCanHeight}) {
+    const gp_Ax2 at(gp_Pnt(kCanAt.x(), kCanAt.y(), kCanAt.z() + z), gp::DZ());
+    const TopoDS_Wire rim = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(gp_Circ(at, kCanRadius)).Edge()).Wire();
+    sew.Add(BRepBuilderAPI_MakeFace(gp_Pln(gp_Ax3(at)), rim, Standard_True).Face());
+  }
+  sew.Perform();
+  return BRepBuilderAPI_MakeSolid(TopoDS::Shell(sew.SewedShape())).Solid();
+}
+
+TopoDS_Compound occt_scene() {
+  TopoDS_Builder builder;
+  TopoDS_Compound c;
+  builder.MakeCompound(c);
+  builder.Add(c, occt_box(kSlabMin, kSlabMax));
+  builder.Add(c, occt_sphere());
+  builder.Add(c, occt_cylinder());
+  return c;
+}
+
+double occt_length(const TopoDS_Shape& shape) {
+  if (shape.IsNull()) return 0;
+  GProp_GProps props;
+  BRepGProp::LinearProperties(shape, props);
+  return props.Mass();
+}
+
+HLRAlgo_Projector occt_projector() {
+  const PictureProjection proj(kCamera);
+  const Vec3 z = -proj.axis(), x = proj.right();
+  return HLRAlgo_Projector(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(z.x(), z.y(), z.z()), gp_Dir(x.x(), x.y(), x.z())));
+}
+
+void BM_FacesOcctPoly(benchmark::State& state) {
+  const double t = tolerance_of(state);
+  double length = 0, mesh_ms = 0;
+  TopoDS_Compound c;
+  Handle(HLRBRep_PolyAlgo) algo;
+  std::optional<HLRBRep_PolyHLRToShape> out;
+  TopoDS_Shape visible, outline;
+  // Meshed once per tolerance (OCCT's meshing takes 26 s at 1e-4 on the development machine);
+  // every iteration runs the HLR on the same triangulation.
+  static std::map<int, std::pair<TopoDS_Compound, double>> meshed;
+  auto it = meshed.find(static_cast<int>(state.range(0)));
+  if (it == meshed.end()) {
+    TopoDS_Compound scene = occt_scene();
+    const auto t0 = std::chrono::steady_clock::now();
+    BRepMesh_IncrementalMesh mesh(scene, t);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    it = meshed.emplace(static_cast<int>(state.range(0)), std::make_pair(scene, ms)).first;
+  }
+  c = it->second.first;
+  mesh_ms = it->second.second;
+  for (auto _ : state) {
+    state.PauseTiming();
+    visible.Nullify();
+    outline.Nullify();
+    out.reset();
+    algo.Nullify();
+    state.ResumeTiming();
+    algo = new HLRBRep_PolyAlgo(c);
+    algo->Projector(occt_projector());
+    algo->Update();
+    out.emplace();
+    out->Update(algo);
+    visible = out->VCompound();
+    outline = out->OutLineVCompound();
+    state.PauseTiming();
+    length = occt_length(visible) + occt_length(outline);
+    state.ResumeTiming();
+  }
+  state.counters["mesh_ms"] = mesh_ms;
+  state.counters["visible_length_2d"] = length;
+}
+#endif
+
+void tolerances(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"t_exp"});
+  for (int k = 2; k <= (quick() ? 4 : 5); ++k) b->Args({k});
+}
+
+// OCCT's meshing grows about 50× per 10× finer tolerance (0.5 s at 1e-3, 26 s at 1e-4): at 1e-5
+// it would take longer than the whole benchmark run, so OCCT stops at 1e-4 (quick: 1e-3).
+void occt_tolerances(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"t_exp"});
+  for (int k = 2; k <= (quick() ? 3 : 4); ++k) b->Args({k});
+}
+
+}  // namespace
+
+BENCHMARK(BM_FacesHedraHlr)->Apply(tolerances)->UseRealTime()->Unit(benchmark::kMillisecond);
+#if HEDRA_HAVE_OCCT
+BENCHMARK(BM_FacesOcctPoly)->Apply(occt_tolerances)->UseRealTime()->Unit(benchmark::kMillisecond);
+#endif
+
+BENCHMARK_MAIN();
