@@ -9,6 +9,7 @@
 #include "hedra/scene/demo.h"
 #include "cli/hlr.h"
 #include "cli/info.h"
+#include "cli/progress.h"
 #include "cli/render.h"
 #include "cli/shadows.h"
 #include "cli/usage.h"
@@ -107,6 +108,11 @@ int main(int argc, char** argv) {
           ->option_text("D");
   }
 
+  // Long commands: a progress bar on a terminal unless --quiet, and Ctrl-C stops them cleanly.
+  bool quiet = false;
+  for (CLI::App* sub : {hlr, render, shadows})
+    sub->add_flag("--quiet", quiet, "no progress bar on stderr (it is drawn only on a terminal)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -115,6 +121,8 @@ int main(int argc, char** argv) {
   }
 
   hedra::cli::set_import_tolerance(tolerance);
+  hedra::cli::set_quiet(quiet);
+  if (*hlr || *render || *shadows) hedra::cli::catch_interrupts();
   try {
     if (*info) {
       std::vector<hedra::cli::NamedBody> bodies;
@@ -189,6 +197,14 @@ int main(int argc, char** argv) {
       hedra::cli::write_demo_hidden_lines(scene, "demo-hidden-lines.svg", std::cout);
       hedra::cli::write_demo_shadows(scene, "demo-shadows.svg", std::cout);
     }
+  } catch (const hedra::Cancelled& e) {
+    // Ctrl-C (or a cancelled pass): outputs are all-or-nothing, so nothing was written.
+    hedra::cli::end_progress_bar();
+    std::cerr << "hedra: "
+              << (hedra::cli::interrupted() ? std::string("interrupted")
+                                            : hedra::cli::sanitize_message(e.what()))
+              << "; no output written\n";
+    return hedra::cli::kExitInterrupted;
   } catch (const hedra::cli::UsageError& e) {
     return fail(e.what(), kExitUsage);
   } catch (const hedra::InvalidInput& e) {

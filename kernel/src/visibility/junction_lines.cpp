@@ -124,6 +124,7 @@ void Roberts::junctions() {
     for (size_t f = 0; f < back[b].size(); ++f) back[b][f] = data_[b].facing[f] == Facing::Back;
   }
   for (const auto& [i, j] : touching_pairs()) {
+    meter_.add();  // HlrOptions::progress
     // A junction segment lies on face fa of body i and face fb of body j.
     const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
                                              detail::Candidates& out) {
