@@ -7,8 +7,9 @@ CMAKE_ARGS ?=
 BENCH_BUILD ?= build-bench
 FUZZ_BUILD   ?= $(ASAN_BUILD)
 FUZZ_SECONDS ?= 60
+STRESS_CASES ?= 3000
 
-.PHONY: all deps build demo test test-asan bench-build bench bench-quick fuzz-build fuzz clean
+.PHONY: all deps build demo test stress test-asan bench-build bench bench-quick fuzz-build fuzz clean
 
 all: build
 
@@ -24,6 +25,11 @@ demo: build
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j$(JOBS)
+
+# The differential random tests (tests/differential) with STRESS_CASES seeded cases each
+# (make test runs a few hundred in all); a failure prints its seed, HEDRA_STRESS_SEED reruns it.
+stress: build
+	cd $(BUILD) && HEDRA_STRESS_CASES=$(STRESS_CASES) ctest --output-on-failure -j$(JOBS) -R '^Differential\.'
 
 # Second build with clang, AddressSanitizer + UBSan: every test again, and in the same build the
 # libFuzzer targets of tests/fuzz (the libraries also carry -fsanitize=fuzzer-no-link), so the

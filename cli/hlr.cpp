@@ -5,21 +5,25 @@
 #include <cstdio>
 
 #include "cli/info.h"
+#include "cli/progress.h"
 #include "hedra/io/atomic_file.h"
 #include "hedra/io/report_json.h"
 #include "hedra/core/error.h"
 #include "hedra/visibility/roberts.h"
+#include "hedra/render/raster.h"
 #include "hedra/render/svg.h"
 
 namespace hedra::cli {
 namespace {
 
-SvgStyle style_of(const Scene& scene, bool hidden) {
+// The drawing framed as `hedra render` frames the scene, or (fit) fitted to the image.
+SvgStyle style_of(const Scene& scene, bool hidden, bool fit) {
   SvgStyle style;
   style.width = scene.camera.width;
   style.height = scene.camera.height;
   style.background = scene.image.background;
   style.hidden = hidden;
+  if (!fit) style.view = scene_view(scene, style.width, style.height);
   return style;
 }
 
@@ -44,6 +48,8 @@ CLI::App* add_hlr_subcommand(CLI::App& app, HlrCommand& command) {
           },
           "DEG"));
   hlr->add_flag("--smooth", command.smooth, "also draw the smooth edges (class \"smooth\")");
+  hlr->add_flag("--fit", command.fit,
+                "fit the drawing to the image (default: frame it as `hedra render` does)");
   return hlr;
 }
 
@@ -53,19 +59,22 @@ void run_hlr(const HlrCommand& command, std::ostream& out) {
   options.hidden = command.hidden;
   options.crease_angle = command.crease_angle;
   options.smooth = command.smooth;
+  options.progress = progress_bar("hlr");
   HlrResult result;
   const auto start = std::chrono::steady_clock::now();
   try {
     result = hidden_lines(scene, options);
   } catch (const InvalidInput& e) {
+    end_progress_bar();
     throw InvalidInput(command.scene_file + ": " + e.what());
   }
+  end_progress_bar();
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 
   // Everything is formatted before anything is written.
   std::string svg, json;
   if (!command.svg_file.empty()) {
-    SvgStyle style = style_of(scene, command.hidden);
+    SvgStyle style = style_of(scene, command.hidden, command.fit);
     style.title = "hedra hlr " + command.scene_file;
     svg = hidden_lines_svg(result, style);
   }
@@ -75,6 +84,7 @@ void run_hlr(const HlrCommand& command, std::ostream& out) {
   io::OutputTransaction outputs;  // both files or neither
   if (!command.svg_file.empty()) outputs.add(command.svg_file, svg);
   if (!command.json_file.empty()) outputs.add(command.json_file, json);
+  check_interrupted();  // Ctrl-C up to here: no file
   outputs.commit();
 
   size_t edges = 0, junctions = 0, outlines = 0, smooth = 0;
@@ -108,7 +118,7 @@ void write_demo_hidden_lines(const Scene& scene, const std::string& path, std::o
   HlrOptions options;
   options.hidden = true;
   const HlrResult result = hidden_lines(scene, options);
-  SvgStyle style = style_of(scene, true);
+  SvgStyle style = style_of(scene, true, false);
   style.title = "hedra demo: hidden lines";
   io::write_file_atomically(path, hidden_lines_svg(result, style));
   size_t edges = 0, junctions = 0, outlines = 0;

@@ -20,13 +20,14 @@ struct HlrCommand {
   bool hidden = false;    // also hidden lines (dashed in the drawing, "hidden" in the JSON)
   double crease_angle = 30;  // --crease-angle: edges turning less are smooth (0..180 degrees)
   bool smooth = false;       // --smooth: also draw the smooth edges
+  bool fit = false;       // --fit: the drawing fitted to the image, not framed as `render` does
 };
 
 /// Registers the `hlr` subcommand and its options on `app`, to fill `command`.
 CLI::App* add_hlr_subcommand(CLI::App& app, HlrCommand& command);
 
 /// Runs `hedra hlr`: reads the scene, removes the hidden lines with the scene's camera, writes
-/// the SVG and the JSON {"visible": [[x1,y1,z1,x2,y2,z2], …], "hidden": […], "junction": […],
+/// the SVG (framed as `hedra render` frames the scene, or fitted with --fit) and the JSON {"visible": [[x1,y1,z1,x2,y2,z2], …], "hidden": […], "junction": […],
 /// "ms": T} (world coordinates; junction segments only under "junction", visible parts only;
 /// "outline" when the scene has smooth parts, "smooth" with --smooth;
 /// "hidden" filled with --hidden; ms = computation time without file I/O), each file whole or

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include <filesystem>
+#include <iomanip>
 #include <set>
 
 #include "cli/usage.h"
@@ -164,15 +165,17 @@ void print_open_surface(std::ostream& out, const OpenSurface& s, bool json) {
     out << nlohmann::json{{"bodies", nlohmann::json::array({j})}}.dump(2) << "\n";
     return;
   }
-  char line[512];
-  std::snprintf(line, sizeof line, "%-12s %8s %6s %6s %6s %14s %14s\n", "surface", "vertices", "edges",
-                "faces", "closed", "boundary edges", "area");
-  out << line;
-  std::snprintf(line, sizeof line, "%-12s %8d %6d %6d %6s %14d %14s\n", s.name.c_str(), s.vertices,
-                s.edges, s.faces, "no", s.boundary_edges, num(s.area).c_str());
-  out << line;
-  out << "open surface, not a solid: first boundary edge between vertices " << s.first_a << " and "
-      << s.first_b << "\n";
+  // Formatted with the name apart, so that a long name never cuts the row (see print_info_table).
+  char line[160];
+  std::snprintf(line, sizeof line, "%8s %6s %6s %6s %14s %14s\n", "vertices", "edges", "faces",
+                "closed", "boundary edges", "area");
+  out << std::left << std::setw(12) << "surface" << ' ' << line;
+  std::snprintf(line, sizeof line, "%8d %6d %6d %6s %14d %14s\n", s.vertices, s.edges, s.faces, "no",
+                s.boundary_edges, num(s.area).c_str());
+  out << std::setw(12) << s.name << std::right << ' ' << line;
+  out << "open surface, not a solid (decompose, clip and convert need a closed body; hlr, shadows "
+         "and render take it as two-sided faces): first boundary edge between vertices "
+      << s.first_a << " and " << s.first_b << "\n";
 }
 
 Scene load_scene(const std::string& path) {

@@ -9,6 +9,7 @@
 #include "hedra/scene/demo.h"
 #include "cli/hlr.h"
 #include "cli/info.h"
+#include "cli/progress.h"
 #include "cli/render.h"
 #include "cli/shadows.h"
 #include "cli/usage.h"
@@ -107,6 +108,11 @@ int main(int argc, char** argv) {
           ->option_text("D");
   }
 
+  // Long commands: a progress bar on a terminal unless --quiet, and Ctrl-C stops them cleanly.
+  bool quiet = false;
+  for (CLI::App* sub : {hlr, render, shadows})
+    sub->add_flag("--quiet", quiet, "no progress bar on stderr (it is drawn only on a terminal)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -115,6 +121,8 @@ int main(int argc, char** argv) {
   }
 
   hedra::cli::set_import_tolerance(tolerance);
+  hedra::cli::set_quiet(quiet);
+  if (*hlr || *render || *shadows) hedra::cli::catch_interrupts();
   // What the run builds, for the one resource error that no input check can rule out: the
   // machine running out of memory (the guards bound what an input may ask for, not what the
   // machine has).
@@ -133,10 +141,12 @@ int main(int argc, char** argv) {
         bodies = hedra::cli::load_bodies(info_file);
       } catch (const hedra::InvalidInput& e) {
         // An open surface (consistently oriented and manifold, with boundary edges) is not a
-        // body: its report goes to stdout, and the error stays what it is (exit 3).
+        // body, but hlr, shadows and render take it (two-sided faces): its report, exit 0.
         if (std::string(e.what()).find("not closed") != std::string::npos)
-          if (const auto open = hedra::cli::open_surface(info_file))
+          if (const auto open = hedra::cli::open_surface(info_file)) {
             hedra::cli::print_open_surface(std::cout, *open, info_json);
+            return 0;
+          }
         throw;
       }
       if (info_json)
@@ -198,6 +208,14 @@ int main(int argc, char** argv) {
       hedra::cli::write_demo_hidden_lines(scene, "demo-hidden-lines.svg", std::cout);
       hedra::cli::write_demo_shadows(scene, "demo-shadows.svg", std::cout);
     }
+  } catch (const hedra::Cancelled& e) {
+    // Ctrl-C (or a cancelled pass): outputs are all-or-nothing, so nothing was written.
+    hedra::cli::end_progress_bar();
+    std::cerr << "hedra: "
+              << (hedra::cli::interrupted() ? std::string("interrupted")
+                                            : hedra::cli::sanitize_message(e.what()))
+              << "; no output written\n";
+    return hedra::cli::kExitInterrupted;
   } catch (const hedra::cli::UsageError& e) {
     return fail(e.what(), kExitUsage);
   } catch (const hedra::InvalidInput& e) {

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "cli/info.h"
+#include "cli/progress.h"
 #include "cli/usage.h"
 #include "hedra/io/png.h"
 #include "hedra/core/error.h"
@@ -85,6 +86,7 @@ void run_render(const RenderCommand& c, std::ostream& out) {
   options.attenuation = Attenuation::parse(c.attenuation);
   options.ambient = c.ambient;
   options.threads = c.threads;
+  options.progress = progress_bar("render");
   Image image;
   RenderStats stats;
   try {
@@ -92,8 +94,11 @@ void run_render(const RenderCommand& c, std::ostream& out) {
     if (c.lines) draw_hidden_lines(image, scene);
   } catch (const InvalidInput& e) {
     // Scene-level problems (a light, a body that cannot be decomposed) name the file.
+    end_progress_bar();
     throw InvalidInput(c.scene_file + ": " + e.what());
   }
+  end_progress_bar();
+  check_interrupted();  // Ctrl-C up to here (the line overlay has no reports): no file
   io::write_png(c.output_file, image.width, image.height, image.rgb);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -9,6 +9,7 @@
 
 #include "cli/distributed_study.h"
 #include "cli/info.h"
+#include "cli/progress.h"
 #include "cli/usage.h"
 #include "hedra/io/atomic_file.h"
 #include "hedra/io/report_json.h"
@@ -16,6 +17,8 @@
 #include "hedra/visibility/roberts.h"
 #include "hedra/visibility/shadows.h"
 #include "hedra/scene/sun.h"
+#include "hedra/clip/polygon_clip.h"
+#include "hedra/render/raster.h"
 #include "hedra/render/svg.h"
 
 namespace hedra::cli {
@@ -111,17 +114,28 @@ int ground_top(const Scene& scene, int& body) {
 
 // The hidden-line drawing with the visible parts of the shadow polygons under its lines:
 // one filled path per light and face (even–odd, so holes stay open), semi-transparent, so the
-// umbra of several lights comes out darker.
-std::string shadows_svg(const Scene& scene, const ShadowResult& result, const std::string& title) {
+// umbra of several lights comes out darker. Framed as `hedra render` frames the scene, or (fit)
+// fitted to the image; in perspective every ring is first clipped by the near plane the
+// drawing's lines are clipped by (ring by ring: even–odd of the clipped rings is the clipped
+// polygon).
+std::string shadows_svg(const Scene& scene, const ShadowResult& result, const std::string& title,
+                        bool fit) {
   const HlrResult lines = hidden_lines(scene, HlrOptions{});
   SvgStyle style;
   style.width = scene.camera.width;
   style.height = scene.camera.height;
   style.background = scene.image.background;
   style.title = title;
+  if (!fit) style.view = scene_view(scene, style.width, style.height);
   std::string svg = hidden_lines_svg(lines, style);
-  const PictureFit fit = fit_picture(lines.picture_box, style.width, style.height, style.margin);
+  const SvgFrame frame(style, lines);
   const PictureProjection projection(scene.camera);
+  const auto to_pixels = [&](const Vec3& p) -> Vec2 {
+    return frame.pixels(p, style.view ? Vec2::Zero() : projection.project(p));
+  };
+  std::optional<ExactPlane> near;
+  if (scene.camera.projection == Camera::Projection::Perspective)
+    near = ExactPlane::from_coefficients(scene.camera.near_plane(scene.bbox()));
   static const char* colours[] = {"#1f3b73", "#73251f", "#1f7335", "#6b1f73"};
   std::string group = "<g id=\"shadows\" stroke=\"none\" fill-rule=\"evenodd\">\n";
   char buf[64];
@@ -131,15 +145,19 @@ std::string shadows_svg(const Scene& scene, const ShadowResult& result, const st
       std::string d;
       auto ring = [&](const Polygon3& r) {
         for (size_t i = 0; i < r.size(); ++i) {
-          const Vec2 p = fit.to_pixels(projection.project(r[i]));
+          const Vec2 p = to_pixels(r[i]);
           std::snprintf(buf, sizeof buf, "%s%.2f %.2f", i ? " L" : "M", p.x(), p.y());
           d += buf;
         }
         d += " Z ";
       };
+      const auto clipped_ring = [&](const Polygon3& r) {
+        if (!near) return ring(r);
+        for (const Polygon3& piece : clip_polygon(r, *near)) ring(piece);
+      };
       for (const ShadowPolygon& p : fs.visible_polygons) {
-        ring(p.outer);
-        for (const Polygon3& h : p.holes) ring(h);
+        clipped_ring(p.outer);
+        for (const Polygon3& h : p.holes) clipped_ring(h);
       }
       // Inline style: the drawing's stylesheet sets `path { fill: none }`.
       group += "<path style=\"fill:" + std::string(colours[l % 4]) +
@@ -185,6 +203,9 @@ CLI::App* add_shadows_subcommand(CLI::App& app, ShadowsCommand& command) {
   sub->add_option("--json", command.json_file, "write the report: faces, polygons, counts (JSON)");
   sub->add_option("--svg", command.svg_file,
                   "write the shadows over the hidden-line drawing (SVG)");
+  sub->add_flag("--fit", command.fit,
+                "with --svg: fit the drawing to the image (default: frame it as `hedra render` "
+                "does)");
   sub->add_option("--sun-hours", command.sun_hours,
                   "sun study START END STEP: UTC times (ISO 8601, or hh:mm on the date of the "
                   "scene's sun) and the step in minutes (30, 30m, 0.5h)")
@@ -266,6 +287,7 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   ShadowOptions options;
   options.threads = command.threads;
   options.visible_parts = command.visible_parts || !command.svg_file.empty();
+  options.progress = progress_bar("shadows");
   const auto t0 = std::chrono::steady_clock::now();
   ShadowResult result;
   std::optional<SunStudy> study;
@@ -278,8 +300,11 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
     else if (study_options)
       study = sun_study(scene, *study_options);
   } catch (const InvalidInput& e) {
+    end_progress_bar();
     throw InvalidInput(command.scene_file + ": " + e.what());
   }
+  end_progress_bar();
+  check_interrupted();  // the sun study has no reports: a Ctrl-C during it stops here
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
@@ -298,7 +323,7 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   }
   if (!command.svg_file.empty()) {
     try {
-      svg_text = shadows_svg(scene, result, "hedra shadows " + command.scene_file);
+      svg_text = shadows_svg(scene, result, "hedra shadows " + command.scene_file, command.fit);
     } catch (const InvalidInput& e) {
       throw InvalidInput(command.scene_file + ": " + e.what());
     }
@@ -306,6 +331,7 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   io::OutputTransaction outputs;  // both files or neither
   if (!command.json_file.empty()) outputs.add(command.json_file, json_text);
   if (!command.svg_file.empty()) outputs.add(command.svg_file, svg_text);
+  check_interrupted();  // Ctrl-C up to here: no file
   outputs.commit();
 
   // Summary.
@@ -370,7 +396,7 @@ void write_demo_shadows(const Scene& scene, const std::string& path, std::ostrea
   ShadowOptions options;
   options.visible_parts = true;
   const ShadowResult result = compute_shadows(scene, options);
-  io::write_file_atomically(path, shadows_svg(scene, result, "hedra demo: shadows"));
+  io::write_file_atomically(path, shadows_svg(scene, result, "hedra demo: shadows", false));
   int body = -1;
   const int face = ground_top(scene, body);
   out << "shadows (exact polygons): ";

@@ -18,6 +18,7 @@ struct ShadowsCommand {
   std::string scene_file;
   std::string json_file;  // the full report (faces, polygons, counts, sun study)
   std::string svg_file;   // the shadow polygons over the hidden-line drawing
+  bool fit = false;       // --fit: the drawing fitted to the image, not framed as `render` does
   /// START END STEP: ISO 8601 UTC times (or hh:mm on the date of the scene's sun) and minutes.
   std::vector<std::string> sun_hours;
   /// Optional sample grid of the sun study: BODY FACE SPACING.

@@ -2,6 +2,7 @@
 """Writes docs/benchmarks.md and its charts from Google Benchmark JSON files.
 
 Usage: bench_report.py RESULTS_DIR DOCS_DIR
+       bench_report.py --perturbation RESULTS_DIR DOCS_DIR  (that section of docs/benchmarks.md only)
 Each benchmark binary writes RESULTS_DIR/<name>.json; every section below reads the file it
 knows and is skipped when the file is missing. Ratios carry the conclusions: each table says
 how much faster (or how many fewer pieces) hedra is than each peer in the same run.
@@ -116,52 +117,98 @@ def decomposition(results, docs, quick):
     fig.savefig(os.path.join(docs, "decomposition.png"), dpi=110)
     plt.close(fig)
 
-    # Perturbed inputs: failure rate against time.
+    lines += perturbation(r, docs)
+    return "\n".join(lines) + "\n"
+
+
+METHOD_LABELS = {"planes": "hedra exact", "tolerance": "hedra exact after `--tolerance` (D = 1e-5)",
+                 "float": "hedra float (ε = 1e-9)"}
+
+
+def perturbation(r, docs):
+    """The "Under perturbation" section (lines) and its chart, from decompose_bench's perturbed/ runs."""
     pert = {}
     for name, entries in r.items():
         parts = name.split("/")
         if parts[0] != "perturbed":
             continue
         e = entries[0]
-        pert.setdefault(parts[1], []).append((e["delta"], e["failure_rate"], ms(entries)[0] / e["inputs"]))
-    if pert:
-        lines += ["### Under perturbation",
-                  "Suite shapes (rotated, triangulated) with every vertex moved by up to δ × size: "
-                  "failure rate (an exception, or a result with a piece that is not convex by the exact test or piece volumes off the input's by more than 1e-9, checked outside the timing) and time per input.", "",
-                  "| δ | " + " | ".join(f"{m} failure rate | {m} ms" for m in sorted(pert)) + " |",
-                  "|---|" + "---|---|" * len(pert)]
-        deltas = sorted({d for v in pert.values() for d, _, _ in v})
-        for d in deltas:
-            row = [f"{d:.0e}"]
-            for m in sorted(pert):
-                hit = [x for x in pert[m] if x[0] == d]
-                row += [f"{hit[0][1]:.0%}", f"{hit[0][2]:.3g}"] if hit else ["—", "—"]
-            lines.append("| " + " | ".join(row) + " |")
-        lines += ["", "![decomposition under perturbation](decomposition_perturbation.png)", ""]
-        fig, ax = plt.subplots(figsize=(7, 4.2))
-        for m, pts in sorted(pert.items()):
-            pts.sort()
-            xs, ys = [p[2] for p in pts], [100 * p[1] for p in pts]
-            ax.plot(xs, ys, marker="*" if m == "planes" else "o", markersize=12 if m == "planes" else 6,
-                    label={"planes": "hedra exact", "float": "hedra float (ε = 1e-9)"}.get(m, m))
-            for d, rate, t in pts:
-                ax.annotate(f"δ={d:.0e}", (t, 100 * rate), fontsize=6, textcoords="offset points", xytext=(3, 3))
-        ax.set_xscale("log")
-        ax.set_xlabel("time per decomposition (ms, log)")
-        ax.set_ylabel("failure rate (%)")
-        ax.set_title("Perturbed inputs: failure rate against time, one point per method and δ", fontsize=9)
-        ax.grid(True, alpha=0.3)
-        ax.legend()
-        fig.tight_layout()
-        fig.savefig(os.path.join(docs, "decomposition_perturbation.png"), dpi=110)
-        plt.close(fig)
-    return "\n".join(lines) + "\n"
+        pert.setdefault(parts[1], []).append((e["delta"], e["failure_rate"], ms(entries)[0] / e["inputs"],
+                                              e.get("pieces", float("nan")), int(e["inputs"])))
+    if not pert:
+        return []
+    methods = [m for m in ["planes", "tolerance", "float"] if m in pert] + sorted(set(pert) - set(METHOD_LABELS))
+    inputs = max(x[4] for v in pert.values() for x in v)
+    lines = ["### Under perturbation",
+             f"Suite shapes ({inputs} inputs per δ: rotated, triangulated) with every vertex moved by up to δ × size. "
+             "*planes*: the exact method on the triangle soup; *tolerance*: the same after the command's "
+             "`--tolerance D` merge (D = 1e-5 × size; time includes the merge); *float*: the floating-point "
+             "variant. A failure is an exception or a broken result: a piece that is not convex by the exact "
+             "test, piece volumes off the input's by more than 1e-9, and for planes and tolerance also a failed "
+             "exact verification (every exact piece convex, exact volumes summing exactly to the input's) or a "
+             "gap or overlap found by 200 sample points per input; all checked outside the timing. "
+             "Time and pieces are per input.", "",
+             "| δ | " + " | ".join(f"{m} failure rate | {m} ms | {m} pieces" for m in methods) + " |",
+             "|---|" + "---|---|---|" * len(methods)]
+    deltas = sorted({d for v in pert.values() for d, *_ in v})
+    for d in deltas:
+        row = [f"{d:.0e}"]
+        for m in methods:
+            hit = [x for x in pert[m] if x[0] == d]
+            row += [f"{hit[0][1]:.0%}", f"{hit[0][2]:.3g}", f"{hit[0][3]:.1f}"] if hit else ["—", "—", "—"]
+        lines.append("| " + " | ".join(row) + " |")
+    lines += ["", "![decomposition under perturbation](decomposition_perturbation.png)", ""]
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    for m in methods:
+        pts = sorted(pert[m])
+        xs, ys = [p[2] for p in pts], [100 * p[1] for p in pts]
+        ax.plot(xs, ys, marker="*" if m == "planes" else "o", markersize=12 if m == "planes" else 6,
+                label=METHOD_LABELS.get(m, m))
+        for d, rate, t, *_ in pts:
+            ax.annotate(f"δ={d:.0e}", (t, 100 * rate), fontsize=6, textcoords="offset points", xytext=(3, 3))
+    ax.set_xscale("log")
+    ax.set_xlabel("time per decomposition (ms, log)")
+    ax.set_ylabel("failure rate (%)")
+    ax.set_title("Perturbed inputs: failure rate against time, one point per method and δ", fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(docs, "decomposition_perturbation.png"), dpi=110)
+    plt.close(fig)
+    return lines
+
+
+def replace_perturbation(results, docs):
+    """Rewrites only the "Under perturbation" section of docs/benchmarks.md (and its chart) from
+    RESULTS_DIR/decompose_bench.json, keeping the rest of the page."""
+    data = load(results, "decompose_bench")
+    if data is None:
+        sys.exit(f"{results}/decompose_bench.json: missing")
+    lines = perturbation(runs(data), docs)
+    if not lines:
+        sys.exit(f"{results}/decompose_bench.json: no perturbed/ runs")
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+    lines.insert(1, f"This section alone was rerun on {datetime.date.today().isoformat()} at commit "
+                    f"{commit or 'unknown'} (`scripts/run-bench.sh --perturbation`, machine as above; "
+                    f"{'quick' if os.environ.get('HEDRA_BENCH_QUICK') else 'full'} run; times are wall-clock, load average "
+                    f"{os.getloadavg()[0]:.1f} on this machine when the run ended).")
+    path = os.path.join(docs, "benchmarks.md")
+    with open(path) as f:
+        page = f.read().split("\n")
+    begin = page.index("### Under perturbation")
+    end = next(i for i in range(begin + 1, len(page)) if page[i].startswith("## ") or page[i].startswith("### "))
+    page[begin:end] = lines
+    with open(path, "w") as f:
+        f.write("\n".join(page))
 
 
 SECTIONS = [decomposition, clipping, hidden_lines, shadows, rendering, lod, faces_scaling]
 
 
 def main():
+    if sys.argv[1] == "--perturbation":
+        replace_perturbation(sys.argv[2], sys.argv[3])
+        return
     results, docs = sys.argv[1], sys.argv[2]
     quick = bool(os.environ.get("HEDRA_BENCH_QUICK"))
     body = "".join(section(results, docs, quick) for section in SECTIONS)

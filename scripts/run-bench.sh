@@ -3,7 +3,17 @@
 # docs/benchmarks.md and the charts (scripts/bench_report.py) and the figure of
 # docs/rendering.md (scripts/render_figures.py). HEDRA_BENCH_QUICK=1: smaller inputs, a shorter
 # minimum time per benchmark and 3 repetitions instead of 5 (make bench-quick, < 5 minutes).
+# `run-bench.sh --perturbation BUILD`: only the perturbation study of decompose_bench, which
+# rewrites only that section of docs/benchmarks.md and its chart.
 set -euo pipefail
+if [ "${1:-}" = "--perturbation" ]; then
+  build=${2:-build-bench}
+  mkdir -p "$build/results-perturbation"
+  "$build/decompose_bench" --benchmark_filter='^perturbed/' --benchmark_format=console \
+    --benchmark_out="$build/results-perturbation/decompose_bench.json" --benchmark_out_format=json
+  /usr/bin/python3 scripts/bench_report.py --perturbation "$build/results-perturbation" docs
+  exit 0
+fi
 build=${1:-build-bench}
 out="$build/results"
 mkdir -p "$out"

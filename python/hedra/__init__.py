@@ -66,13 +66,14 @@ class Image(_np.ndarray):
 
 
 def render(scene, width=0, height=0, shadows="exact", shading="phong", aa=1, lines=False,
-           ambient=1.0, attenuation="none", threads=0):
+           ambient=1.0, attenuation="none", threads=0, progress=None):
     """Shaded picture of the scene with its camera and lights: an :class:`Image`, (h, w, 3)
     uint8. ``shadows``: "exact", "map[:RES[:BIAS]]", "rays[:SPP]" or "none"; ``shading``:
     "flat", "gouraud" or "phong"; ``aa``: 1, 4 or 16 samples per pixel; ``lines``: draw the
-    visible edges on top. 0 sizes take the scene camera's."""
+    visible edges on top. 0 sizes take the scene camera's. ``progress(done)``, done from 0 to
+    1, returning False cancels (:class:`Cancelled`)."""
     rgb = _hedra.render(scene, width, height, shadows, shading, aa, lines, ambient,
-                        attenuation, threads)
+                        attenuation, threads, progress)
     return rgb.view(Image)
 
 

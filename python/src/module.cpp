@@ -52,7 +52,8 @@ PYBIND11_MODULE(_hedra, m) {
   py::register_exception<hedra::InvalidInput>(m, "InvalidInput", PyExc_ValueError);
   py::register_exception<hedra::IoError>(m, "IoError", PyExc_OSError);
   py::register_exception<hedra::DecompositionFailed>(m, "DecompositionFailed", PyExc_RuntimeError);
-  py::register_exception<hedra::DecompositionCancelled>(m, "Cancelled", PyExc_RuntimeError);
+  // Every cancelled pass (decomposition, hidden lines, shadows, rendering).
+  py::register_exception<hedra::Cancelled>(m, "Cancelled", PyExc_RuntimeError);
   bind_body(m);
   bind_scene(m);
 }

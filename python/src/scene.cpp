@@ -221,6 +221,37 @@ struct PyHiddenLines {
   int width = 800, height = 600;
   Vec3 background = Vec3(1, 1, 1);
   bool hidden = false;
+  RasterView view;  // the renderer's framing of the scene (svg(fit=False))
+};
+
+// `progress=`: a Python callable f(done) (done from 0 to 1; returning False cancels) and Ctrl-C,
+// both seen with the GIL taken on the calling thread; what the callable raised is raised again
+// after the work stopped. Use: callback() in the options, then rethrow() when Cancelled.
+struct PyProgress {
+  py::object callable;
+  std::optional<py::error_already_set> error;
+  ProgressCallback callback() {
+    return [this](double done) {
+      py::gil_scoped_acquire acquire;
+      if (PyErr_CheckSignals() != 0) {
+        error.emplace();
+        return false;
+      }
+      if (callable.is_none()) return true;
+      try {
+        const py::object r = callable(done);
+        if (!r.is_none() && !r.cast<bool>()) return false;
+      } catch (py::error_already_set& e) {
+        error.emplace(std::move(e));
+        return false;
+      }
+      return true;
+    };
+  }
+  [[noreturn]] void rethrow() {
+    if (error) throw *error;
+    throw;  // hedra.Cancelled
+  }
 };
 
 py::array_t<double> segments_of(const std::vector<HlrSegment>& list, LineKind kind) {
@@ -230,8 +261,10 @@ py::array_t<double> segments_of(const std::vector<HlrSegment>& list, LineKind ki
   return rows_array(flat, 6);
 }
 
-std::string svg_of(const PyHiddenLines& h, std::optional<bool> hidden, const std::string& title) {
+std::string svg_of(const PyHiddenLines& h, std::optional<bool> hidden, const std::string& title,
+                   bool fit) {
   SvgStyle style;
+  if (!fit) style.view = h.view;
   style.width = h.width;
   style.height = h.height;
   style.background = h.background;
@@ -595,35 +628,44 @@ void bind_scene(py::module_& m) {
       .def("to_json", [](const PyHiddenLines& h) { return io::hidden_lines_json(h.result, h.ms); },
            "The JSON of `hedra hlr --json` (one line).")
       .def("svg", &svg_of, py::arg("hidden") = py::none(), py::arg("title") = "",
-           "The drawing as SVG text (hidden lines dashed when computed, or as asked).")
-      .def("_repr_svg_", [](const PyHiddenLines& h) { return svg_of(h, std::nullopt, ""); });
+           py::arg("fit") = false,
+           "The drawing as SVG text (hidden lines dashed when computed, or as asked), framed as "
+           "render() frames the scene (fit=True: fitted to the image).")
+      .def("_repr_svg_", [](const PyHiddenLines& h) { return svg_of(h, std::nullopt, "", false); });
   m.def("hidden_lines",
-        [](const PyScene& s, bool hidden, bool junctions, double crease_angle, bool smooth) {
+        [](const PyScene& s, bool hidden, bool junctions, double crease_angle, bool smooth,
+           py::object progress) {
           PyHiddenLines out;
           out.width = s.scene.camera.width;
           out.height = s.scene.camera.height;
           out.background = s.scene.image.background;
           out.hidden = hidden;
           const Scene scene = s.scene;
+          out.view = scene_view(scene, out.width, out.height);
           HlrOptions options;
           options.hidden = hidden;
           options.junctions = junctions;
           options.crease_angle = crease_angle;
           options.smooth = smooth;
-          py::gil_scoped_release release;
+          PyProgress reporter{progress, {}};
+          options.progress = reporter.callback();
           const auto t0 = Clock::now();
           try {
+            py::gil_scoped_release release;
             out.result = hidden_lines(scene, options);
           } catch (const InvalidInput& e) {
             rethrow_with_source(s, e);
+          } catch (const Cancelled&) {
+            reporter.rethrow();
           }
           out.ms = ms_since(t0);
           return out;
         },
         py::arg("scene"), py::arg("hidden") = true, py::arg("junctions") = true,
-        py::arg("crease_angle") = 30.0, py::arg("smooth") = false,
+        py::arg("crease_angle") = 30.0, py::arg("smooth") = false, py::arg("progress") = py::none(),
         "Exact hidden-line removal with the scene's camera: sharp edges (turning by more than "
-        "crease_angle degrees), outlines of smooth parts, smooth edges when smooth=True.");
+        "crease_angle degrees), outlines of smooth parts, smooth edges when smooth=True. "
+        "progress(done) returning False cancels (hedra.Cancelled).");
 
   // ---- shadows ----
   py::class_<PyShadows>(m, "Shadows", "Exact shadows of every light on every face.")
@@ -669,7 +711,7 @@ void bind_scene(py::module_& m) {
         return io::shadows_json(s.scene, s.source, s.result, s.visible_parts, s.ms);
       }, "The JSON of `hedra shadows --json` (one line; 'scene' is the file read).");
   m.def("shadows",
-        [](const PyScene& s, bool visible, int threads) {
+        [](const PyScene& s, bool visible, int threads, py::object progress) {
           if (s.scene.lights.empty())
             throw InvalidInput((s.source.empty() ? std::string() : s.source + ": ") +
                                "the scene has no lights (shadows need at least one)");
@@ -677,17 +719,22 @@ void bind_scene(py::module_& m) {
           ShadowOptions options;
           options.visible_parts = visible;
           options.threads = threads;
-          py::gil_scoped_release release;
+          PyProgress reporter{progress, {}};
+          options.progress = reporter.callback();
           const auto t0 = Clock::now();
           try {
+            py::gil_scoped_release release;
             out.result = compute_shadows(out.scene, options);
           } catch (const InvalidInput& e) {
             rethrow_with_source(s, e);
+          } catch (const Cancelled&) {
+            reporter.rethrow();
           }
           out.ms = ms_since(t0);
           return out;
         },
         py::arg("scene"), py::arg("visible") = false, py::arg("threads") = 0,
+        py::arg("progress") = py::none(),
         "Self shadows and exact cast-shadow polygons of every light on every face "
         "(visible=True: also the parts the camera sees).");
 
@@ -829,7 +876,8 @@ void bind_scene(py::module_& m) {
   // ---- rendering ----
   m.def("render",
         [](const PyScene& s, int width, int height, const std::string& shadows, const std::string& shading,
-           int aa, bool lines, double ambient, const std::string& attenuation, int threads) {
+           int aa, bool lines, double ambient, const std::string& attenuation, int threads,
+           py::object progress) {
           RenderOptions options;
           options.width = width;
           options.height = height;
@@ -839,16 +887,18 @@ void bind_scene(py::module_& m) {
           options.ambient = ambient;
           options.attenuation = Attenuation::parse(attenuation);
           options.threads = threads;
+          PyProgress reporter{progress, {}};
+          options.progress = reporter.callback();
           const Scene scene = s.scene;
           Image image;
-          {
+          try {
             py::gil_scoped_release release;
-            try {
-              image = render(scene, options);
-              if (lines) draw_hidden_lines(image, scene);
-            } catch (const InvalidInput& e) {
-              rethrow_with_source(s, e);
-            }
+            image = render(scene, options);
+            if (lines) draw_hidden_lines(image, scene);
+          } catch (const InvalidInput& e) {
+            rethrow_with_source(s, e);
+          } catch (const Cancelled&) {
+            reporter.rethrow();
           }
           py::array_t<std::uint8_t> out({static_cast<py::ssize_t>(image.height), static_cast<py::ssize_t>(image.width),
                                          py::ssize_t{3}});
@@ -857,8 +907,9 @@ void bind_scene(py::module_& m) {
         },
         py::arg("scene"), py::arg("width") = 0, py::arg("height") = 0, py::arg("shadows") = "exact",
         py::arg("shading") = "phong", py::arg("aa") = 1, py::arg("lines") = false, py::arg("ambient") = 1.0,
-        py::arg("attenuation") = "none", py::arg("threads") = 0,
-        "Shaded image, (h, w, 3) uint8 (0 sizes: the scene camera's).");
+        py::arg("attenuation") = "none", py::arg("threads") = 0, py::arg("progress") = py::none(),
+        "Shaded image, (h, w, 3) uint8 (0 sizes: the scene camera's). progress(done) returning "
+        "False cancels (hedra.Cancelled).");
 }
 
 }  // namespace hedra::python

@@ -182,6 +182,26 @@ def test_decomposition_equals_the_command(tmp_path):
     assert len(hedra.decompose(notched, progress=lambda done, open: True)) >= 2
 
 
+def test_progress_reports_and_cancels():
+    """progress(done) sees fractions rising to 1; returning False raises hedra.Cancelled and
+    returns nothing; an exception raised in the callable comes back as itself."""
+    s = small_scene()
+    for call in (lambda p: hedra.hidden_lines(s, progress=p),
+                 lambda p: hedra.shadows(s, visible=True, progress=p),
+                 lambda p: hedra.render(s, width=80, height=60, progress=p)):
+        seen = []
+        call(lambda done: seen.append(done))
+        assert seen and seen == sorted(seen) and seen[-1] == 1.0
+        with pytest.raises(hedra.Cancelled):
+            call(lambda done: False)
+
+        def boom(done):
+            raise KeyError("stop")
+
+        with pytest.raises(KeyError):
+            call(boom)
+
+
 def read_clip_output(path):
     rows = [list(map(float, line.split())) for line in open(path) if line.strip()]
     return np.array(rows).reshape(-1, 7)

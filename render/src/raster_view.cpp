@@ -50,10 +50,7 @@ RasterView RasterView::of_camera(const Camera& camera, int width, int height,
     const Vec3 right = f.cross(c.up).normalized();
     const Vec3 down = -right.cross(f);
     const double s = 0.5 * height / std::tan(c.fov_deg * std::numbers::pi / 360);
-    double far = 0;
-    for (int i = 0; i < 8; ++i)
-      far = std::max(far, (box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)) - c.eye).norm());
-    const double near = kRasterNearPlane * std::max(far, 1e-300);
+    const double near = c.near_distance(box);  // the same near plane as hlr's (camera.h)
     return perspective(c.eye, f, right, down, s, s, 0.5 * width, 0.5 * height, width, height, near);
   }
   // Parallel: the box fitted as lod.h's parallel_view_height frames it.

@@ -29,13 +29,14 @@ std::string escape(const std::string& text) {
 }
 
 // One path of the segments of `kind`: "M x y L x y" per segment, in pixels (0.01 px).
-std::string path(const std::vector<HlrSegment>& segments, const PictureFit& fit,
+template <class ToPixels>
+std::string path(const std::vector<HlrSegment>& segments, const ToPixels& to_pixels,
                  const std::vector<LineKind>& kinds) {
   std::string d;
   char buf[96];
   for (const HlrSegment& s : segments) {
     if (std::find(kinds.begin(), kinds.end(), s.kind) == kinds.end()) continue;
-    const Vec2 a = fit.to_pixels(s.a2), b = fit.to_pixels(s.b2);
+    const Vec2 a = to_pixels(s, true), b = to_pixels(s, false);
     std::snprintf(buf, sizeof buf, "M%.2f %.2fL%.2f %.2f", a.x(), a.y(), b.x(), b.y());
     d += buf;
   }
@@ -58,7 +59,11 @@ PictureFit fit_picture(const Eigen::AlignedBox2d& box, int width, int height, do
 }
 
 std::string hidden_lines_svg(const HlrResult& result, const SvgStyle& style) {
-  const PictureFit fit = fit_picture(result.picture_box, style.width, style.height, style.margin);
+  // World points through the renderer's view, or picture-plane points fitted to the image.
+  const SvgFrame frame(style, result);
+  const auto to_pixels = [&](const HlrSegment& s, bool first) -> Vec2 {
+    return first ? frame.pixels(s.a, s.a2) : frame.pixels(s.b, s.b2);
+  };
   std::string out;
   char buf[512];
   std::snprintf(buf, sizeof buf,
@@ -93,7 +98,7 @@ std::string hidden_lines_svg(const HlrResult& result, const SvgStyle& style) {
   out += "<rect width=\"100%\" height=\"100%\" fill=\"" + colour(style.background) + "\"/>\n";
   const auto group = [&](const char* cls, const std::vector<HlrSegment>& segments, LineKind kind,
                          double px, const std::string& dash) {
-    const std::string d = path(segments, fit, {kind});
+    const std::string d = path(segments, to_pixels, {kind});
     std::snprintf(buf, sizeof buf,
                   "<g class=\"%s\" fill=\"none\" stroke-linecap=\"round\" stroke-linejoin=\"round\" "
                   "stroke-width=\"%g\"%s>\n",

@@ -6,6 +6,8 @@
 #include <regex>
 
 #include "hedra/core/primitives.h"
+#include "hedra/render/raster.h"
+#include "hedra/scene/scene.h"
 
 namespace hedra {
 namespace {
@@ -81,6 +83,52 @@ TEST(Svg, StrokeWidthDoesNotDependOnTheSceneScale) {
   const std::string b = hidden_lines_svg(hidden_lines(large, camera), style);
   EXPECT_EQ(a, b);  // same picture, same pixels, same strokes
   EXPECT_NE(a.find("stroke-width=\"1.5\""), std::string::npos);
+}
+
+// Framed by the scene's view (the default of `hlr -o`), every point of the drawing lands where
+// render() puts it: the view render() reports in its SampleRecord, to 1e-6 px, for a parallel
+// and a perspective camera; the document holds those points to its 0.01 px.
+TEST(Svg, FramesTheDrawingAsTheRendererFramesTheScene) {
+  for (const Camera& camera : {Camera::parallel({1, 0.5, -0.7}), Camera::perspective({9, -7, 6}, {1, 1, 1}, 50)}) {
+    Scene scene;
+    scene.add("cube", box({0, 0, 0}, {4, 4, 4}));
+    scene.add("bar", box({-1, 1, 1}, {5, 3, 3}));
+    scene.camera = camera;
+    scene.camera.width = 320;
+    scene.camera.height = 200;
+    SampleRecord record;
+    RenderOptions ro;
+    ro.shadows.method = ShadowSettings::Method::None;
+    render(scene, ro, &record);
+    const HlrResult r = hidden_lines(scene);
+    SvgStyle style;
+    style.width = 320;
+    style.height = 200;
+    style.view = scene_view(scene, 320, 200);
+    const SvgFrame frame(style, r);
+    for (const SceneBody& b : scene.bodies())
+      for (const Vec3& v : b.body.vertices()) {
+        const Eigen::Vector2d expected = record.view.project(v);
+        const Vec2 got = frame.pixels(v, Vec2::Zero());
+        EXPECT_NEAR(got.x(), expected.x(), 1e-6);
+        EXPECT_NEAR(got.y(), expected.y(), 1e-6);
+      }
+    // The path data: each visible segment's ends, in order, at the render's pixels.
+    const std::string svg = hidden_lines_svg(r, style);
+    const std::vector<double> c = coordinates(svg);
+    ASSERT_EQ(c.size(), 4 * r.visible.size());
+    std::vector<const HlrSegment*> order;
+    for (LineKind kind : {LineKind::Edge, LineKind::Junction})
+      for (const HlrSegment& s : r.visible)
+        if (s.kind == kind) order.push_back(&s);
+    for (size_t i = 0; i < order.size(); ++i) {
+      const Eigen::Vector2d a = record.view.project(order[i]->a), b = record.view.project(order[i]->b);
+      EXPECT_NEAR(c[4 * i], a.x(), 0.0051);
+      EXPECT_NEAR(c[4 * i + 1], a.y(), 0.0051);
+      EXPECT_NEAR(c[4 * i + 2], b.x(), 0.0051);
+      EXPECT_NEAR(c[4 * i + 3], b.y(), 0.0051);
+    }
+  }
 }
 
 }  // namespace

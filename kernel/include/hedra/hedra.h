@@ -9,6 +9,7 @@
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
 #include "hedra/core/parallel.h"
+#include "hedra/core/progress.h"
 #include "hedra/core/plane.h"
 #include "hedra/core/predicates.h"
 #include "hedra/core/primitives.h"

@@ -482,8 +482,13 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
   std::vector<Piece> open = components(whole.pts, whole.tris);
   std::vector<Piece> done;
   Decomposition out;
-  if (open.size() == 1 && reflex_edges(ctx, open[0]).empty()) {
-    // Convex input: one piece, the body itself, unchanged.
+  if (!ctx.exact_planes && open.size() == 1 && reflex_edges(ctx, open[0]).empty()) {
+    // Convex input: one piece, the body itself, unchanged. No reflex edge under the rounding
+    // guard is not convexity: a fold within the guard (a nearly flat triangle soup) is hidden
+    // by it, and the body is not convex by the exact test. Then the guard's model of the input
+    // is wrong and the input itself is decomposed (decompose()).
+    if (!is_convex(body))
+      throw InternalError("decompose: no reflex edge within the rounding guard, but not convex");
     out.pieces.push_back(body);
     out.verified = options.verify;
     out.exact_volume = body.volume();
@@ -560,7 +565,23 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
 }  // namespace
 
 Decomposition decompose(const Body& body, const DecomposeOptions& options) {
+  // First with the rounding guard: faces coplanar within rounding (a rotated body) share one
+  // plane and input vertices within rounding of a plane count as on it, which keeps the piece
+  // count of a rotated body its aligned twin's. Those coincidences are a model of the input,
+  // not the input: when the input has real features at the guard's scale (a triangle soup
+  // perturbed by ~1e-13 of its size), the model can contradict itself — a reflex edge whose
+  // plane has the piece's other vertices below it only within the guard, so no cut exists
+  // ("the plane of a reflex edge does not cut its piece"). Then the input itself is
+  // decomposed: exact planes of its triangles, every side the exact predicate, which cannot
+  // contradict itself and so never fails on a valid body.
+  try {
+    Context ctx;
+    Decomposition out = run(body, options, ctx);
+    if (!options.verify || out.verified) return out;
+  } catch (const InternalError&) {
+  }
   Context ctx;
+  ctx.exact_planes = true;
   return run(body, options, ctx);
 }
 

@@ -35,7 +35,7 @@ int side(const Context& ctx, const Point& pt, int id) {
   if (std::binary_search(pt.on.begin(), pt.on.end(), id)) return 0;
   const CGAL::Oriented_side s = ctx.planes[id].oriented_side(pt.p);
   if (s == CGAL::ON_ORIENTED_BOUNDARY) return 0;
-  if (pt.origin >= 0 && std::abs(ctx.approx[id].value(pt.input)) <= ctx.guard) return 0;
+  if (ctx.guard > 0 && pt.origin >= 0 && std::abs(ctx.approx[id].value(pt.input)) <= ctx.guard) return 0;
   return s == CGAL::ON_POSITIVE_SIDE ? 1 : -1;
 }
 
@@ -85,11 +85,78 @@ std::vector<int> planes_near(Context& ctx, const Vec3& n, double eps) {
   return out;
 }
 
+P3 exact(const Vec3& p) { return P3(p.x(), p.y(), p.z()); }
+
+// Context::exact_planes: the body's triangles, each on the exact plane through its corners;
+// triangles share a canonical plane only when all their corners lie exactly on it (both
+// orientations: pieces may meet a plane from either side). The normal index only proposes
+// candidates (radius as in piece_of, never a decision); a missed candidate would give the
+// same plane a second id, which changes no side. Cost O(T) exact orientation tests.
+Piece exact_piece_of(const Body& body, Context& ctx) {
+  const auto& v = body.vertices();
+  Piece piece;
+  piece.pts.resize(v.size());
+  for (size_t i = 0; i < v.size(); ++i) {
+    piece.pts[i].p = exact(v[i]);
+    piece.pts[i].origin = static_cast<int>(i);
+    piece.pts[i].input = v[i];
+  }
+  const double radius = kRoundingPlanarity * body.scale();
+  std::vector<size_t> flat;  // triangles with collinear corners (a straight run of a face)
+  for (const Triangle& t : body.triangles()) {
+    const P3 a = exact(v[t.v[0]]), b = exact(v[t.v[1]]), c = exact(v[t.v[2]]);
+    if (CGAL::collinear(a, b, c)) {
+      flat.push_back(piece.tris.size());
+      piece.tris.push_back({t.v, -1, 1});
+      continue;
+    }
+    const Vec3 n = (v[t.v[1]] - v[t.v[0]]).cross(v[t.v[2]] - v[t.v[0]]);
+    const double longest = std::max({(v[t.v[1]] - v[t.v[0]]).norm(), (v[t.v[2]] - v[t.v[1]]).norm(),
+                                     (v[t.v[0]] - v[t.v[2]]).norm()});
+    const double height = n.norm() / longest;
+    int group = -1, sign = 1;
+    for (int g : planes_near(ctx, n.normalized(), 8 * radius / height + 1e-9)) {
+      const PL& plane = ctx.planes[static_cast<size_t>(g)];
+      if (plane.oriented_side(a) == CGAL::ON_ORIENTED_BOUNDARY &&
+          plane.oriented_side(b) == CGAL::ON_ORIENTED_BOUNDARY &&
+          plane.oriented_side(c) == CGAL::ON_ORIENTED_BOUNDARY) {
+        group = g;
+        sign = CGAL::is_positive(CGAL::cross_product(b - a, c - a) * plane.orthogonal_vector()) ? 1 : -1;
+        break;
+      }
+    }
+    if (group < 0) {
+      group = static_cast<int>(ctx.planes.size());
+      ctx.planes.emplace_back(a, b, c);
+      ctx.approx.push_back(Plane::through(v[t.v[0]], n.normalized()));
+    }
+    for (int w : t.v) add_on(piece.pts[static_cast<size_t>(w)], group);
+    piece.tris.push_back({t.v, group, sign});
+  }
+  // A flat triangle lies on any plane through its line: it takes the plane (and side) of a
+  // triangle of the same face whose plane holds its corners exactly.
+  const auto& tris = body.triangles();
+  for (size_t f : flat) {
+    Tri& t = piece.tris[f];
+    for (size_t u = 0; u < tris.size() && t.plane < 0; ++u) {
+      if (tris[u].face != tris[f].face || piece.tris[u].plane < 0) continue;
+      const PL& plane = ctx.planes[static_cast<size_t>(piece.tris[u].plane)];
+      bool on = true;
+      for (int w : t.v) on = on && plane.oriented_side(piece.pts[static_cast<size_t>(w)].p) == CGAL::ON_ORIENTED_BOUNDARY;
+      if (on) t.plane = piece.tris[u].plane, t.sign = piece.tris[u].sign;
+    }
+    HEDRA_ASSERT(t.plane >= 0, "decompose: a flat triangle lies on no plane of its face");
+    for (int w : t.v) add_on(piece.pts[static_cast<size_t>(w)], t.plane);
+  }
+  return piece;
+}
+
 }  // namespace
 
 // Groups the body's faces into canonical planes (coincident within the rounding guard) and
 // builds the exact piece of the whole body.
 Piece piece_of(const Body& body, Context& ctx) {
+  if (ctx.exact_planes) return exact_piece_of(body, ctx);
   ctx.guard = std::max(ctx.guard, kRoundingPlanarity * body.scale());
   const auto& v = body.vertices();
   std::vector<int> group(body.face_count(), -1), sign(body.face_count(), 1);
@@ -215,7 +282,14 @@ std::vector<std::array<int, 3>> cap_triangles(const Context& ctx, int plane,
     return h;
   };
   try {
-    for (const auto& [a, b] : segments) cdt.insert_constraint(vertex(a), vertex(b));
+    for (const auto& [a, b] : segments) {
+      const Cdt::Vertex_handle va = vertex(a), vb = vertex(b);
+      // Only the floating-point variant's rounded cut points can coincide (exact points made
+      // by a cut are strictly inside their edge): a zero-length boundary edge, on which CGAL's
+      // constraint insertion would crash.
+      if (va == vb) HEDRA_UNREACHABLE("split: the cut's boundary has a zero-length edge");
+      cdt.insert_constraint(va, vb);
+    }
   } catch (const Cdt::Intersection_of_constraints_exception&) {
     HEDRA_UNREACHABLE("split: the cut's boundary crosses itself");
   }

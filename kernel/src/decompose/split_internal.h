@@ -23,6 +23,11 @@ struct Context {
   std::vector<PL> planes;
   std::vector<Plane> approx;  // unit-normal double planes, same orientation (for the guard)
   double guard = 0;           // rounding guard for input vertices (see side())
+  // Exact planes only (the fallback of decompose()): every canonical plane is the exact plane
+  // of input triangles, shared only by triangles exactly on it; no guard, so every side is
+  // the exact predicate on the double input. The polyhedron decided on is then the input
+  // itself, so no decision can contradict another.
+  bool exact_planes = false;
   // The floating-point variant: sides from double evaluation with a tolerance, cut points
   // computed in double; no symbolic incidence. Kept for the speed–accuracy comparison.
   bool floating = false;

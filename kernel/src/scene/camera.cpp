@@ -1,9 +1,11 @@
 #include "hedra/scene/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "hedra/core/error.h"
+#include "hedra/core/tolerance.h"
 
 namespace hedra {
 
@@ -42,6 +44,20 @@ double Camera::pixel_size_at(const Vec3& p, double view_height) const {
   const Vec3 axis = (target - eye).normalized();
   const double depth = std::max((p - eye).dot(axis), 1e-9 * (target - eye).norm());
   return 2 * depth * std::tan(fov_deg * std::numbers::pi / 360) / height;
+}
+
+double Camera::near_distance(const Eigen::AlignedBox3d& scene_box) const {
+  Eigen::AlignedBox3d box = scene_box;
+  if (box.isEmpty()) box = Eigen::AlignedBox3d(Vec3::Zero(), Vec3::Zero());
+  double far = 0;
+  for (int i = 0; i < 8; ++i)
+    far = std::max(far, (box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)) - eye).norm());
+  return kRasterNearPlane * std::max(far, 1e-300);
+}
+
+Plane Camera::near_plane(const Eigen::AlignedBox3d& scene_box) const {
+  const Vec3 f = (target - eye).normalized();
+  return Plane(f.x(), f.y(), f.z(), -(f.dot(eye) + near_distance(scene_box)));
 }
 
 void Camera::validate() const {

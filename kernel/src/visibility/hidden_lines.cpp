@@ -49,8 +49,13 @@ bool segment_meets_box(const Vec2& a, const Vec2& b, const Eigen::AlignedBox2d& 
 HlrResult Roberts::run() {
   check_view();
   // Stage 0: facing, pieces, occlusion volumes; the grid over the picture plane.
+  meter_.stage(0, 0.2, static_cast<double>(bodies_.size()));
   prepare_bodies();
   build_index();
+  meter_.finish_stage();
+  size_t edge_total = 0;
+  for (const Body& body : bodies_) edge_total += static_cast<size_t>(body.edge_count());
+  meter_.stage(0.2, options_.junctions ? 0.9 : 1.0, static_cast<double>(edge_total));
   // Stages 1 and 2: the edges, bodies in parallel, results in body order.
   std::vector<EdgeOutput> outputs(bodies_.size());
   parallel_blocks(bodies_.size(), 0, 8, [&](size_t begin, size_t end) {
@@ -70,9 +75,14 @@ HlrResult Roberts::run() {
     result_.stats.smooth_edges += o.stats.smooth_edges;
     result_.stats.outline_segments += o.stats.outline_segments;
   }
+  meter_.finish_stage();
   if (options_.merge_coincident) merge_coincident();
   // Stage 3: junction lines.
-  if (options_.junctions) junctions();
+  if (options_.junctions) {
+    meter_.stage(0.9, 1.0, static_cast<double>(touching_pairs().size()));
+    junctions();
+    meter_.finish_stage();
+  }
   // Outlines and smooth edges last: they take no part in the merging of coincident edges.
   for (const LineKind kind : {LineKind::Outline, LineKind::Smooth})
     for (const EdgeOutput& o : outputs)
@@ -161,12 +171,19 @@ void Roberts::prepare_bodies() {
       }
       // A two-sided face of an open surface is its own convex piece.
       bd.convex = body.two_sided() || is_convex(body);
+      meter_.add();
       if (bd.convex) {
         per_body[b].pieces.push_back(body);
         continue;
       }
       try {
-        per_body[b].pieces = decompose(body).pieces;
+        DecomposeOptions decompose_options;
+        if (meter_.active())
+          decompose_options.progress = [this](int, int) {
+            meter_.add(0);  // reports on the caller's thread, throws once cancelled
+            return true;
+          };
+        per_body[b].pieces = decompose(body, decompose_options).pieces;
       } catch (const InvalidInput& e) {
         per_body[b].error = e.what();
         continue;
@@ -408,6 +425,7 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
   const HlrBody& bd = data_[static_cast<size_t>(b)];
   const auto& v = body.vertices();
   for (int e = 0; e < body.edge_count(); ++e) {
+    if ((e & 63) == 63) meter_.add(64);  // HlrOptions::progress
     const Edge& edge = body.edges()[static_cast<size_t>(e)];
     const Vec3 &p1 = v[static_cast<size_t>(edge.v0)], &p2 = v[static_cast<size_t>(edge.v1)];
     // Not an edge of the drawing: between two faces of one plane, or seen end-on.

@@ -127,6 +127,7 @@ void Roberts::junctions() {
     // Plain variables, not a structured binding: the lambdas below capture them (clang 14,
     // the fuzz and sanitizer compiler, cannot capture bindings).
     const int i = pair.first, j = pair.second;
+    meter_.add();  // HlrOptions::progress
     // A junction segment lies on face fa of body i and face fb of body j.
     const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
                                              detail::Candidates& out) {

@@ -2,8 +2,12 @@
 // hidden_lines.cpp and junction_lines.cpp (private header roberts_internal.h).
 #include "hedra/visibility/roberts.h"
 
+#include <algorithm>
+
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/core/error.h"
+#include "hedra/core/predicates.h"
+#include "hedra/decompose/split.h"
 #include "visibility/roberts_internal.h"
 
 namespace hedra {
@@ -61,18 +65,101 @@ std::optional<HiddenPart> hidden_part(const OcclusionVolume& volume, const Vec3&
   return HiddenPart{part->lo.t, part->hi.t};
 }
 
+namespace {
+
+std::string body_name(std::span<const std::string> names, size_t b) {
+  return names.empty() ? "body " + std::to_string(b) : "body '" + names[b] + "'";
+}
+
+// The drawing of the bodies ∩ the near half-space of a perspective camera (camera.h's
+// near_plane, the renderer's): bodies that reach the near plane are split by it exactly
+// (hedra/decompose/split.h) and only their parts in front are drawn and hide; the cut itself
+// (the edges of the caps, junction lines on them) is not a line of the scene and is not drawn.
+// Parallel views and scenes wholly in front go straight to the Roberts pass.
+// Cost: O(V) exact side tests, plus O(n log n) per split body of n triangles.
+HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std::string> names,
+                               std::span<const SmoothSurface> surfaces, const Camera& camera,
+                               const HlrOptions& options, const Eigen::AlignedBox3d& box) {
+  camera.validate();
+  check_options(options);
+  if (!surfaces.empty() && surfaces.size() != bodies.size())
+    throw InvalidInput("hidden lines: " + std::to_string(surfaces.size()) + " surfaces for " +
+                       std::to_string(bodies.size()) + " bodies");
+  if (camera.projection != Camera::Projection::Perspective)
+    return internal::Roberts(bodies, names, surfaces, camera, options).run();
+  // The eye inside or on a body is still an error: nothing of the scene could be seen.
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    const Body& body = bodies[b];
+    if (!body.bbox().contains(camera.eye)) continue;
+    const Location where = body.classify(camera.eye);
+    if (where != Location::Outside)
+      throw InvalidInput(body_name(names, b) + ": the perspective eye lies " +
+                         (where == Location::Inside ? "inside" : "on") + " the body");
+  }
+  const Plane near = camera.near_plane(box);
+  std::vector<char> cut(bodies.size(), 0);
+  bool any = false;
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    for (const Vec3& v : bodies[b].vertices())
+      if (side_of_plane(near, v) != Sign::Positive) {
+        cut[b] = 1;
+        any = true;
+        break;
+      }
+  }
+  if (!any) return internal::Roberts(bodies, names, surfaces, camera, options).run();
+
+  std::vector<Body> kept;
+  std::vector<std::string> kept_names;
+  std::vector<SmoothSurface> kept_surfaces;  // the analytic surface does not depend on the cut
+  std::vector<int> origin;
+  for (size_t b = 0; b < bodies.size(); ++b) {
+    std::vector<Body> parts;
+    if (cut[b])
+      parts = split(bodies[b], near).above;
+    else
+      parts.push_back(bodies[b]);
+    for (Body& p : parts) {
+      kept.push_back(std::move(p));
+      if (!names.empty()) kept_names.push_back(names[b]);
+      if (!surfaces.empty()) kept_surfaces.push_back(surfaces[b]);
+      origin.push_back(static_cast<int>(b));
+    }
+  }
+  // Messages of the pass name the input body (a split body's parts keep its name).
+  HlrResult result = internal::Roberts(kept, kept_names, kept_surfaces, camera, options).run();
+  // Drop the cut: segments with both ends on the near plane. Their points are rounded
+  // intersections with that plane (a few ulps of the coordinates off it), so this is a
+  // tolerance on constructed points, not a decision about the input.
+  double m = camera.eye.cwiseAbs().maxCoeff();
+  if (!box.isEmpty()) m = std::max({m, box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff()});
+  const double tol = 1e-12 * std::max(m, 1e-300);
+  const auto on_near = [&](const Vec3& p) { return std::abs(near.value(p)) <= tol; };
+  for (std::vector<HlrSegment>* list : {&result.visible, &result.hidden}) {
+    std::erase_if(*list, [&](const HlrSegment& s) { return on_near(s.a) && on_near(s.b); });
+    for (HlrSegment& s : *list) {
+      const int b = s.body;
+      s.body = origin[static_cast<size_t>(b)];
+      if (s.other_body >= 0) s.other_body = origin[static_cast<size_t>(s.other_body)];
+      if (cut[static_cast<size_t>(s.body)]) s.edge = -1;  // an edge of the split body, not of the input
+    }
+  }
+  result.stats.bodies = static_cast<int>(bodies.size());
+  return result;
+}
+
+}  // namespace
+
 HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera, const HlrOptions& options) {
   return hidden_lines(bodies, {}, camera, options);
 }
 
 HlrResult hidden_lines(std::span<const Body> bodies, std::span<const SmoothSurface> surfaces,
                        const Camera& camera, const HlrOptions& options) {
-  camera.validate();
-  check_options(options);
-  if (!surfaces.empty() && surfaces.size() != bodies.size())
-    throw InvalidInput("hidden lines: " + std::to_string(surfaces.size()) + " surfaces for " +
-                       std::to_string(bodies.size()) + " bodies");
-  return internal::Roberts(bodies, {}, surfaces, camera, options).run();
+  Eigen::AlignedBox3d box;
+  box.setEmpty();
+  for (const Body& b : bodies) box.extend(b.bbox());
+  return clipped_hidden_lines(bodies, {}, surfaces, camera, options, box);
 }
 
 HlrResult hidden_lines(const Scene& scene, const HlrOptions& options) {
@@ -84,9 +171,7 @@ HlrResult hidden_lines(const Scene& scene, const HlrOptions& options) {
     names.push_back(b->name);
     surfaces.push_back(b->surface);
   }
-  scene.camera.validate();
-  check_options(options);
-  return internal::Roberts(bodies, names, surfaces, scene.camera, options).run();
+  return clipped_hidden_lines(bodies, names, surfaces, scene.camera, options, scene.bbox());
 }
 
 }  // namespace hedra

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "hedra/clip/cyrus_beck.h"
+#include "hedra/core/progress.h"
 #include "hedra/visibility/outline.h"
 #include "hedra/visibility/roberts.h"
 #include "visibility/roberts_exact.h"
@@ -112,7 +113,8 @@ class Roberts {
   Roberts(std::span<const Body> bodies, std::span<const std::string> names,
           std::span<const SmoothSurface> surfaces, const Camera& camera, const HlrOptions& options)
       : bodies_(bodies), names_(names), surfaces_(surfaces), camera_(camera), options_(options),
-        view_(Viewpoint::of(camera)), projection_(camera) {}
+        view_(Viewpoint::of(camera)), projection_(camera),
+        meter_(options.progress, "hidden lines cancelled") {}
 
   HlrResult run();
 
@@ -258,6 +260,8 @@ class Roberts {
   std::optional<std::vector<std::pair<int, int>>> pairs_;
   double margin_ = 0, depth_margin_ = 0;
   Eigen::AlignedBox<double, 1> depth_range_;
+  // HlrOptions::progress: decompositions, then edges, then junction pairs.
+  mutable ProgressMeter meter_;
 };
 
 }  // namespace hedra::internal

@@ -1,5 +1,7 @@
 #include "hedra/visibility/shadows.h"
 
+#include "hedra/core/progress.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -161,6 +163,10 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       options.polygons && (options.visible_parts || (options.counts && lights.size() >= 2));
   // 2D shadow pieces per light and face, kept for the visible parts and the counts.
   std::vector<std::vector<std::vector<Ring2>>> kept(lights.size());
+  // ShadowOptions::progress: the lights' passes share the first 80 %, the visible parts and the
+  // counts the rest; units are faces.
+  ProgressMeter meter(options.progress, "shadows cancelled");
+  const double passes = static_cast<double>(lights.size());
 
   for (size_t l = 0; l < lights.size(); ++l) {
     lights[l].validate();
@@ -176,7 +182,9 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       index.emplace(m.pieces, volumes, view, m.scale);
     }
     if (keep_pieces) kept[l].resize(nf);
+    meter.stage(0.8 * l / passes, 0.8 * (l + 1) / passes, static_cast<double>(nf));
     parallel_for(nf, options.threads, [&](size_t i) {
+      meter.add();
       const auto [b, f] = m.faces[i];
       const ShadowBody& bd = m.bodies[static_cast<size_t>(b)];
       const ShadowFace& fd = bd.faces[static_cast<size_t>(f)];
@@ -201,6 +209,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       for (const PolygonWithHoles2& p : u.polygons) fs.polygons.push_back(lift_polygon(fd, p));
       if (keep_pieces) kept[l][i] = std::move(rings);
     });
+    meter.finish_stage();
     result.lights.push_back(std::move(ls));
   }
 
@@ -209,7 +218,9 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
     const Viewpoint eye = Viewpoint::of(m.camera);
     const std::vector<OcclusionVolume> eye_volumes = m.volumes(eye, options.threads);
     const CasterIndex eye_index(m.pieces, eye_volumes, eye, m.scale);
+    meter.stage(0.8, 0.9, static_cast<double>(nf));
     parallel_for(nf, options.threads, [&](size_t i) {
+      meter.add();
       const auto [b, f] = m.faces[i];
       const ShadowFace& fd = m.bodies[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
       bool any = false;
@@ -231,12 +242,15 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
         fs.visible_shadow_area = v.area * fd.area_factor;
       }
     });
+    meter.finish_stage();
   }
 
   // Several lights: regions by the number of lights they are shadowed from.
   if (options.polygons && options.counts && lights.size() >= 2) {
     std::vector<std::vector<ShadowCount>> per_face(nf);
+    meter.stage(0.9, 1.0, static_cast<double>(nf));
     parallel_for(nf, options.threads, [&](size_t i) {
+      meter.add();
       // Plain variables, not a structured binding: the lambdas below capture f (clang 14, the
       // fuzz and sanitizer compiler, cannot capture bindings).
       const auto [face_body, face_index] = m.faces[i];
@@ -285,9 +299,12 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
         if (!levels[k].polygons.empty())
           add(whole + static_cast<int>(k + 1), levels[k].area * fd.area_factor, lifted(levels[k]));
     });
+    meter.finish_stage();
     for (auto& v : per_face)
       for (ShadowCount& c : v) result.counts.push_back(std::move(c));
   }
+  meter.stage(1, 1, 1);
+  meter.finish_stage();  // the last report is 1
   return result;
 }
 

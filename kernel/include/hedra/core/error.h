@@ -27,10 +27,18 @@ class IoError : public Error {
   using Error::Error;
 };
 
-/// A decomposition stopped because its progress callback asked to (DecomposeOptions::progress).
-class DecompositionCancelled : public Error {
+/// Long work stopped because its progress callback asked to (the `progress` of
+/// DecomposeOptions, HlrOptions, ShadowOptions, RenderOptions): no partial result is returned.
+/// The CLI prints the message on one line and exits with code 130 (interrupted).
+class Cancelled : public Error {
  public:
-  DecompositionCancelled() : Error("decomposition cancelled") {}
+  explicit Cancelled(const std::string& what = "cancelled") : Error(what) {}
+};
+
+/// A decomposition stopped because its progress callback asked to (DecomposeOptions::progress).
+class DecompositionCancelled : public Cancelled {
+ public:
+  DecompositionCancelled() : Cancelled("decomposition cancelled") {}
 };
 
 /// The floating-point decomposition variant failed (a crack, a broken piece, a loop that found

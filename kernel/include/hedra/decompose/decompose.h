@@ -57,6 +57,9 @@ std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges = nu
 /// with input planes); each point also carries the input planes it lies on, so a vertex is on
 /// its own faces' planes symbolically even when rotated coordinates put it a few ulps off.
 /// Input faces whose planes coincide within rounding (kRoundingPlanarity) share one plane.
+/// Where that model of the input contradicts itself (features at the guard's scale: a failed
+/// cut, a failed verification, a fold the guard hides), the input itself is decomposed with
+/// the exact planes of its triangles and exact sides only: a second run, more pieces.
 /// A convex input comes back as one piece, unchanged. Deterministic for any thread count.
 /// Rounding, once at the end: each piece is the exact piece rounded to double with its faces
 /// merged by plane; where rounding breaks a face (slivers of cuts through nearly coplanar

@@ -43,6 +43,16 @@ struct Camera {
   /// `view_height` (world units) or a perspective view (from the distance and the fov).
   double pixel_size_at(const Vec3& p, double view_height) const;
 
+  /// Perspective: the near clipping distance for a scene in `scene_box`, as the renderer uses
+  /// it: kRasterNearPlane (tolerance.h) × the distance from the eye to the box's farthest
+  /// corner. Geometry nearer than that to the eye plane is clipped away (render, hlr, shadows'
+  /// drawing). Cost O(1).
+  double near_distance(const Eigen::AlignedBox3d& scene_box) const;
+  /// Perspective: the near plane at near_distance(scene_box) in front of the eye, its inner
+  /// (positive) side the kept side, its double coefficients the plane itself (they are taken as
+  /// exact by side_of_plane and split()). Cost O(1).
+  Plane near_plane(const Eigen::AlignedBox3d& scene_box) const;
+
   /// \throw InvalidInput naming the field ("camera: 'up' is parallel to the view direction").
   void validate() const;
 };

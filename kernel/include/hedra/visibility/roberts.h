@@ -31,6 +31,7 @@
 #include <Eigen/Geometry>
 
 #include "hedra/core/body.h"
+#include "hedra/core/progress.h"
 #include "hedra/core/smooth_surface.h"
 #include "hedra/scene/camera.h"
 #include "hedra/visibility/occlusion.h"
@@ -98,6 +99,9 @@ struct HlrOptions {
   double crease_angle = 30;
   /// Also draw the visible parts of smooth edges (LineKind::Smooth).
   bool smooth = false;
+  /// Progress and cancellation (hedra/core/progress.h): the fraction done, on the calling
+  /// thread; returning false stops the work with hedra::Cancelled and no result.
+  ProgressCallback progress;
 };
 
 struct HlrStats {
@@ -133,11 +137,15 @@ struct HlrResult {
 /// Hidden-line removal for the bodies seen by `camera`.
 /// Edges seen end-on (parallel to a parallel view, or on a line through the perspective eye)
 /// project to a point and are not listed.
-/// \throw InvalidInput naming the body when the perspective eye is inside or on a body, or a
-///   vertex is not strictly in front of the eye (the picture would need a near clip).
-/// Cost: O(E·k) for E edges each meeting k pieces in the picture, plus the decompositions;
-/// bodies with smooth parts add O(T) for the outline of their T triangles (O(√T) segments on
-/// a smooth body, each clipped like an edge).
+/// Perspective: the scene is clipped by the renderer's near plane (Camera::near_plane of the
+/// bodies' box): bodies reaching it are split there exactly and only their parts in front are
+/// drawn and hide; the cut's own edges are not drawn, and segments of split bodies have
+/// edge = −1.
+/// \throw InvalidInput naming the body when the perspective eye is inside or on a body.
+/// Cost: O(E·k) for E edges each meeting k pieces in the picture, plus the decompositions
+/// (and O(n log n) per body of n triangles that crosses the near plane); bodies with smooth
+/// parts add O(T) for the outline of their T triangles (O(√T) segments on a smooth body, each
+/// clipped like an edge).
 HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera,
                        const HlrOptions& options = {});
 /// The same with the analytic surface of each body (empty, or one per body; Kind::None for a
@@ -145,7 +153,8 @@ HlrResult hidden_lines(std::span<const Body> bodies, const Camera& camera,
 /// \throw InvalidInput when the crease angle is outside 0..180 or the sizes differ.
 HlrResult hidden_lines(std::span<const Body> bodies, std::span<const SmoothSurface> surfaces,
                        const Camera& camera, const HlrOptions& options = {});
-/// The visible bodies of a scene with its camera; messages name the bodies.
+/// The visible bodies of a scene with its camera; messages name the bodies. The near plane is
+/// the one of the scene's box, exactly as render() clips.
 HlrResult hidden_lines(const Scene& scene, const HlrOptions& options = {});
 
 /// The open part (t0, t1) of segment p1p2, 0 ≤ t0 < t1 ≤ 1, hidden by one convex piece: the

@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "hedra/core/progress.h"
 #include "hedra/visibility/occlusion.h"
 #include "hedra/clip/polygon_clip.h"
 #include "hedra/scene/scene.h"
@@ -119,6 +120,10 @@ struct ShadowOptions {
   bool counts = true;
   /// Worker threads (0: TBB's default). Results do not depend on it.
   int threads = 0;
+  /// Progress and cancellation of the shadow passes (hedra/core/progress.h): the fraction
+  /// done, on the calling thread; returning false stops with hedra::Cancelled and no result.
+  /// The preparation (decomposing non-convex bodies) is not covered.
+  ProgressCallback progress;
 };
 
 /// Shadows of every light of the scene on every face of every visible body.

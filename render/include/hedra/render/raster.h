@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "hedra/core/progress.h"
 #include "hedra/scene/scene.h"
 #include "hedra/render/raster_view.h"
 
@@ -94,6 +95,10 @@ struct RenderOptions {
   int tile_size = 32;
   /// Exact method: the shadow polygons to draw. Null: computed with hedra/visibility/shadows.h.
   const SurfaceShadows* exact_polygons = nullptr;
+  /// Progress and cancellation (hedra/core/progress.h): the fraction done, on the calling
+  /// thread; returning false stops with hedra::Cancelled and no image. The tiles and the exact
+  /// shadow polygons report; shadow maps and the ray BVH are built without reports.
+  ProgressCallback progress;
 };
 
 /// An 8-bit RGB image, rows top to bottom.
@@ -140,8 +145,8 @@ Image render(const Scene& scene, const RenderOptions& options, SampleRecord* rec
 
 /// The exact shadow polygons of every light of the scene from hedra/visibility/shadows.h, in the
 /// renderer's form. \throw InvalidInput when hedra/visibility/shadows.h is not part of this
-/// build.
-SurfaceShadows exact_shadow_polygons(const Scene& scene);
+/// build. `progress` as ShadowOptions::progress.
+SurfaceShadows exact_shadow_polygons(const Scene& scene, const ProgressCallback& progress = {});
 
 /// The camera view render() uses for the scene on a width × height image (the parallel view
 /// fitted to the visible bodies' box).

@@ -1,5 +1,6 @@
 // The hidden-line drawing as SVG (hedra/visibility/roberts.h): visible lines solid, hidden lines
-// dashed on request, junction lines in their own class; the picture fitted to the image with a
+// dashed on request, junction lines in their own class; framed by the renderer's view of the
+// scene (so the drawing lies exactly over `hedra render`'s image) or fitted to the image with a
 // margin.
 #pragma once
 
@@ -7,6 +8,9 @@
 
 #include <Eigen/Geometry>
 
+#include <optional>
+
+#include "hedra/render/raster_view.h"
 #include "hedra/scene/camera.h"
 #include "hedra/visibility/roberts.h"
 
@@ -25,6 +29,10 @@ struct SvgStyle {
   double margin = kViewMargin;     // free fraction of the image on each side
   Vec3 background = Vec3(1, 1, 1);
   std::string title;               // <title>, when not empty
+  /// The framing: world points map to pixels through this view (scene_view() of raster.h: the
+  /// camera, field of view and image size exactly as render() uses them). Empty: the picture
+  /// box is fitted to the image with `margin` (`--fit`).
+  std::optional<RasterView> view;
 };
 
 /// Picture-plane coordinates → pixels: uniform scale, centred, y down, the box fitted inside
@@ -37,10 +45,29 @@ struct PictureFit {
 };
 PictureFit fit_picture(const Eigen::AlignedBox2d& box, int width, int height, double margin);
 
+/// Where a point of the drawing lands in the image: through style.view when set (world point,
+/// the renderer's projection to the last bit), else through the fit of result.picture_box
+/// (picture-plane point). Value type; cost O(1) per point.
+class SvgFrame {
+ public:
+  SvgFrame(const SvgStyle& style, const HlrResult& result)
+      : view_(style.view),
+        fit_(fit_picture(result.picture_box, style.width, style.height, style.margin)) {}
+  /// Pixels of the point with world coordinates `world` and picture-plane ones `picture`.
+  Vec2 pixels(const Vec3& world, const Vec2& picture) const {
+    return view_ ? Vec2(view_->project(world)) : fit_.to_pixels(picture);
+  }
+
+ private:
+  std::optional<RasterView> view_;
+  PictureFit fit_;
+};
+
 /// The SVG document: a background rectangle, then groups `hidden` (dashed, when asked),
 /// `visible` and `junction`, each one path of straight segments with round caps and joins, so
-/// lines meeting at a T-junction close. The picture is fitted by result.picture_box (the whole
-/// scene), so drawings of one scene with and without hidden lines coincide.
+/// lines meeting at a T-junction close. Framed by style.view, or else fitted by
+/// result.picture_box (the whole scene); either way drawings of one scene with and without
+/// hidden lines coincide. Cost O(segments).
 std::string hidden_lines_svg(const HlrResult& result, const SvgStyle& style);
 
 }  // namespace hedra
