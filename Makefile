@@ -40,7 +40,7 @@ SANITIZE_CONFIGURE = if [ -f $(1)/CMakeCache.txt ] && ! grep -q '^CMAKE_CXX_COMP
     echo "$(1): configured with another compiler; configuring it again with clang"; \
     rm -rf $(1)/CMakeCache.txt $(1)/CMakeFiles; fi; \
   cmake -S . -B $(1) -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-  -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -g" -DHEDRA_BUILD_FUZZ=ON \
+  -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-O1 -gline-tables-only" -DHEDRA_BUILD_FUZZ=ON \
   -DHEDRA_BUILD_EXAMPLES=OFF $(CMAKE_ARGS) > /dev/null
 
 test-asan:

@@ -107,8 +107,11 @@ TEST(LineClasses, OutlineIsHiddenByOtherBodies) {
   const HlrResult r = hidden_lines(bodies, surfaces, Camera::parallel({0, 0, -1}, {0, 1, 0}));
   EXPECT_NEAR(r.picture_length(LineKind::Outline), kPi, 5e-3 * kPi);
   EXPECT_NEAR(r.picture_length(LineKind::Edge), 2 * 30, 1e-9);
-  for (const HlrSegment& s : r.visible)
-    if (s.kind == LineKind::Outline) EXPECT_GE(std::min(s.a.x(), s.b.x()), -1e-9);
+  for (const HlrSegment& s : r.visible) {
+    if (s.kind == LineKind::Outline) {
+      EXPECT_GE(std::min(s.a.x(), s.b.x()), -1e-9);
+    }
+  }
 }
 
 TEST(LineClasses, SphereOutlineInPerspective) {
