@@ -106,15 +106,27 @@ inline Polygon2 random_outline(std::mt19937_64& rng, int family, double size) {
   return p;
 }
 
+/// Three draws of `u`, in this order (a constructor's arguments are evaluated in an
+/// unspecified order: GCC and clang made different scenes from one seed).
+template <class Distribution>
+inline Vec3 draw3(std::mt19937_64& rng, Distribution& u) {
+  const double x = u(rng);
+  const double y = u(rng);
+  const double z = u(rng);
+  return {x, y, z};
+}
+
 /// A random solid about `size` wide centred near `at`: a box (family 0) or a prism over
 /// random_outline(family − 1), under a random generic rotation about its centroid (so that
 /// its faces are planar only within rounding).
 inline Body random_solid(std::mt19937_64& rng, int family, double size, const Vec3& at) {
   std::uniform_real_distribution<double> u(0, 1);
-  Body b = family % 5 == 0
-               ? box({0, 0, 0}, {size * (0.3 + 0.7 * u(rng)), size * (0.3 + 0.7 * u(rng)), size * (0.3 + 0.7 * u(rng))})
-               : prism(random_outline(rng, family % 5 - 1, size), 0, size * (0.3 + 0.7 * u(rng)));
-  const Vec3 axis(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+  Body b = [&] {
+    if (family % 5 == 0) return box({0, 0, 0}, size * (Vec3(0.3, 0.3, 0.3) + 0.7 * draw3(rng, u)));
+    const Polygon2 outline = random_outline(rng, family % 5 - 1, size);  // drawn before the height
+    return prism(outline, 0, size * (0.3 + 0.7 * u(rng)));
+  }();
+  const Vec3 axis = draw3(rng, u) - Vec3(0.5, 0.5, 0.5);
   b = b.transformed(Transform::rotation(axis.norm() > 1e-3 ? axis : Vec3(1, 2, 3), 360 * u(rng), b.centroid()));
   return b.translated(at - b.centroid());
 }
@@ -127,7 +139,7 @@ inline std::string cover_error(const Body& body, const std::vector<Body>& pieces
   const Eigen::AlignedBox3d box = body.bbox();
   std::uniform_real_distribution<double> u(0, 1);
   for (int trial = 0; trial < samples; ++trial) {
-    const Vec3 p = box.min() + (box.max() - box.min()).cwiseProduct(Vec3(u(rng), u(rng), u(rng)));
+    const Vec3 p = box.min() + (box.max() - box.min()).cwiseProduct(draw3(rng, u));
     const Location where = body.classify(p);
     int in = 0, on = 0;
     for (const Body& piece : pieces) {
