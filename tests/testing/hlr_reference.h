@@ -116,9 +116,16 @@ class RayCastReference {
       r = view_.point - x;
       s_max = 1;
     }
+    // A sample point within 1e-12 of the scene's size of a part's plane is taken as on it: the
+    // sample is the edge's point rounded, and for a face seen nearly edge-on an ulp inside it
+    // would put the ray inside the part over ulp / (sine of the grazing angle), far above the
+    // length threshold below.
+    const double on_plane = 1e-12 * scale_;
     double lo = 0, hi = s_max;
     for (const Plane& p : c.planes) {
-      const double f = p.value(x), g = p.normal().dot(r);
+      double f = p.value(x);
+      if (std::abs(f) <= on_plane) f = 0;
+      const double g = p.normal().dot(r);
       if (g == 0) {
         if (f <= 0) return false;
         continue;
