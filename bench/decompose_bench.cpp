@@ -64,19 +64,6 @@ void run(benchmark::State& state, const Body& body, const std::string& method) {
   state.counters["faces"] = body.face_count();
 }
 
-// Triangle soup of a body with every vertex moved by up to `delta` × scale: stays a valid
-// body (triangles are always planar), but coplanar faces are no longer coplanar.
-Body perturbed(const Body& body, double delta, std::mt19937& random) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Vec3> v = body.vertices();
-  for (Vec3& p : v) p += delta * body.scale() * Vec3(u(random), u(random), u(random));
-  std::vector<Face> faces;
-  for (const Triangle& t : body.triangles()) faces.push_back(Face{t.v[0], t.v[1], t.v[2]});
-  BodyOptions o;
-  o.planarity_tolerance = 1;  // triangles: planar by construction
-  return Body(std::move(v), std::move(faces), o);
-}
-
 // The `--tolerance D` import of the command: the soup's nearly coplanar triangles merged and
 // snapped within D = 1e-5 × size (mesh/merge_coplanar.h), before the exact decomposition.
 constexpr double kTolerance = 1e-5;
@@ -120,7 +107,7 @@ void failure_rate(benchmark::State& state, const std::string& method, double del
   std::mt19937 random(1234);
   for (const suite::Shape& s : suite::shapes(false))
     if (s.name != "cross" && s.name.rfind("plate", 0) != 0)
-      for (int k = 0; k < (quick() ? 1 : 3); ++k) inputs.push_back(perturbed(suite::rotated(s.body), delta, random));
+      for (int k = 0; k < (quick() ? 1 : 3); ++k) inputs.push_back(suite::perturbed_soup(suite::rotated(s.body), delta, random));
   auto run = [&](const Body& b, bool verify) {
     DecomposeOptions o;
     o.threads = 1;

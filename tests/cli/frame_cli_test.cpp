@@ -22,6 +22,7 @@
 #include <Eigen/Geometry>
 
 #include "testing/cli_run.h"
+#include "testing/temp_files.h"
 
 namespace {
 
@@ -31,21 +32,11 @@ using Vec3 = Eigen::Vector3d;
 
 Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
-fs::path temp_dir(const char* name) {
-  const fs::path d = fs::temp_directory_path() / (std::string("hedra_frame_cli_") + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const char* name) { return hedra::testing::temp_dir(std::string("frame_cli_") + name); }
 
-void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+using hedra::testing::write;
 
-std::string read(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string read(const fs::path& path) { return hedra::testing::read_text(path); }
 
 // The points of the path data of the visible lines: pairs of numbers after M or L.
 std::vector<Eigen::Vector2d> visible_points(const std::string& svg) {

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "testing/cli_run.h"
+#include "testing/temp_files.h"
 #include <unistd.h>
 
 #include <array>
@@ -24,21 +25,11 @@ using Result = hedra::testing::CliResult;
 
 Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
-fs::path temp_dir(const char* name) {
-  const fs::path d = fs::temp_directory_path() / (std::string("hedra_hlr_cli_") + std::to_string(::getpid()) + "_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const char* name) { return hedra::testing::temp_dir(std::string("hlr_cli_") + name); }
 
-void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+using hedra::testing::write;
 
-std::string read(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string read(const fs::path& path) { return hedra::testing::read_text(path); }
 
 // A cube pierced by a bar, seen from −x, −y, +z.
 const char* kBarScene = R"({

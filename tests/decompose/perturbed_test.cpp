@@ -21,19 +21,6 @@
 namespace hedra {
 namespace {
 
-// The benchmark's perturbed soup (bench/decompose_bench.cpp): every vertex moved by up to
-// delta × size, the faces split into triangles.
-Body perturbed(const Body& body, double delta, std::mt19937& random) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Vec3> v = body.vertices();
-  for (Vec3& p : v) p += delta * body.scale() * Vec3(u(random), u(random), u(random));
-  std::vector<Face> faces;
-  for (const Triangle& t : body.triangles()) faces.push_back(Face{t.v[0], t.v[1], t.v[2]});
-  BodyOptions o;
-  o.planarity_tolerance = 1;
-  return Body(std::move(v), std::move(faces), o);
-}
-
 // Input `copy` (0–2) of suite shape `name` at `delta`, as the full benchmark makes it (seed
 // 1234, three copies per shape, in suite order).
 Body study_input(double delta, const std::string& name, int copy) {
@@ -41,7 +28,7 @@ Body study_input(double delta, const std::string& name, int copy) {
   for (const suite::Shape& s : suite::shapes(false)) {
     if (s.name == "cross" || s.name.rfind("plate", 0) == 0) continue;
     for (int k = 0; k < 3; ++k) {
-      Body b = perturbed(suite::rotated(s.body), delta, random);
+      Body b = suite::perturbed_soup(suite::rotated(s.body), delta, random);
       if (s.name == name && k == copy) return b;
     }
   }
@@ -129,7 +116,7 @@ TEST(DecomposePerturbed, FloatCapWithCoincidentRoundedCutPointsFailsCleanly) {
   for (const suite::Shape& s : suite::shapes(false)) {
     if (s.name == "cross" || s.name.rfind("plate", 0) == 0) continue;
     for (int k = 0; k < 3; ++k) {
-      const Body b = perturbed(suite::rotated(s.body), 1e-9, random);
+      const Body b = suite::perturbed_soup(suite::rotated(s.body), 1e-9, random);
       ++inputs;
       try {
         DecomposeOptions o;

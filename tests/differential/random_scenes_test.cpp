@@ -19,6 +19,7 @@
 #include "hedra/visibility/shadows.h"
 #include "testing/clip_fixtures.h"
 #include "testing/convexity_oracle.h"
+#include "testing/decomposition_suite.h"
 #include "testing/differential.h"
 #include "testing/hlr_reference.h"
 
@@ -33,18 +34,6 @@ Vec3 random_point(std::mt19937_64& rng, double lo, double hi) {
   return {u(rng), u(rng), u(rng)};
 }
 
-// Triangle soup of a body with every vertex moved by up to delta × its size (a valid body:
-// triangles are planar), as in the perturbation study of docs/benchmarks.md.
-Body perturbed_soup(const Body& body, double delta, std::mt19937_64& rng) {
-  std::vector<Vec3> v = body.vertices();
-  for (Vec3& p : v) p += delta * body.scale() * random_point(rng, -1, 1);
-  std::vector<Face> faces;
-  for (const Triangle& t : body.triangles()) faces.push_back(Face{t.v[0], t.v[1], t.v[2]});
-  BodyOptions o;
-  o.planarity_tolerance = 1;
-  return Body(std::move(v), std::move(faces), o);
-}
-
 // Decomposition: exact verification (every exact piece convex, exact volumes summing exactly
 // to the input's), every rounded piece convex by the course's definition evaluated exactly
 // (testing/convexity_oracle.h), rounded volumes within 1e-9, cover by sampling. Half of the
@@ -53,7 +42,7 @@ TEST(Differential, DecompositionPiecesAreExactConvexAndCover) {
   for_each_case(1, 150, [](std::uint64_t seed) {
     std::mt19937_64 rng(seed);
     Body body = testing::random_solid(rng, static_cast<int>(seed % 5), 4, {0, 0, 0});
-    if (seed % 2) body = perturbed_soup(body, std::pow(10.0, -15 + static_cast<double>(rng() % 10)), rng);
+    if (seed % 2) body = suite::perturbed_soup(body, std::pow(10.0, -15 + static_cast<double>(rng() % 10)), rng);
     DecomposeOptions o;
     o.verify = true;
     o.threads = 1;

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -87,6 +88,26 @@ inline std::vector<Shape> shapes(bool with_large = true) {
     s.push_back({"plate 10x10", plate_with_holes(10)});
   }
   return s;
+}
+
+/// Triangle soup of a body with every vertex moved by up to `delta` × its size: still a valid
+/// body (triangles are planar), but coplanar faces are no longer coplanar (the perturbation
+/// study of docs/benchmarks.md). The three offsets of a vertex are drawn z, y, x: the order the
+/// study's inputs were first drawn in, kept so that the regression tests named after its
+/// failures (tests/decompose/perturbed_test.cpp) get the same inputs from every compiler.
+template <class Rng>
+Body perturbed_soup(const Body& body, double delta, Rng& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Vec3> v = body.vertices();
+  for (Vec3& p : v) {
+    const double z = u(rng), y = u(rng), x = u(rng);
+    p += delta * body.scale() * Vec3(x, y, z);
+  }
+  std::vector<Face> faces;
+  for (const Triangle& t : body.triangles()) faces.push_back(Face{t.v[0], t.v[1], t.v[2]});
+  BodyOptions o;
+  o.planarity_tolerance = 1;  // triangles: planar by construction
+  return Body(std::move(v), std::move(faces), o);
 }
 
 }  // namespace hedra::suite
