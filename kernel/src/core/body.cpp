@@ -247,7 +247,9 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   for (int f = 0; f < n; ++f) {
     const Face& face = faces[f];
     const std::string where = "face " + str(f);
-    const Vec3 outward = newell_normal(vertices, face.loops);
+    // One loop: exact signs where rounding cannot tell (a sliver triangle read from a file).
+    const Vec3 outward = face.loops.size() == 1 ? oriented_normal(vertices, face.loops[0])
+                                                : newell_normal(vertices, face.loops);
     // stableNorm and the unit normal below: the squares of a tiny face's normal (a body of
     // size 1e-100) underflow, those of a huge one overflow; the checks use the unit normal.
     const double length = outward.stableNorm();
