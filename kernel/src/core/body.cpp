@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <map>
 #include <numeric>
@@ -363,6 +364,13 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
     });
     if (flat) throw InvalidInput("flat body: all vertices lie in one plane (volume is zero)");
   }
+  // Not flat, yet no volume at all: every product of three coordinate differences underflowed
+  // (a body about 1e-108 across or smaller); saying "oriented inwards" would mislead.
+  if (impl->bbox.diagonal().maxCoeff() < 1e-90 &&
+      std::abs(impl->volume) < std::numeric_limits<double>::min())
+    throw InvalidInput("body too small for double precision: its volume (about the cube of " +
+                       fmt(impl->bbox.diagonal().maxCoeff()) +
+                       ") underflows; bodies down to about 1e-100 across are accepted");
   if (!(impl->volume > 0))
     throw InvalidInput("faces are oriented inwards (signed volume " + fmt(impl->volume) +
                        "): every face must run counter-clockwise seen from outside");
