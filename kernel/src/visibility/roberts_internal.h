@@ -157,7 +157,17 @@ class Roberts {
     std::vector<TInterval> visible, gaps;
     std::vector<unsigned> mark;  // near_first(): pieces among the candidates
     unsigned mark_current = 0;
+    // edges_of(): the occluders that may hide some edge of the current body (body_candidates),
+    // which candidates() then filters per edge instead of walking the grid again.
+    std::vector<int> body_ids;
+    bool use_body_ids = false;
   };
+
+  // The occluders whose picture box meets body b's and that are nearer than its farthest
+  // vertex: a superset of the candidates of each of its edges (an edge's picture box lies in
+  // the body's), found with one walk of the grid per body instead of one per edge. Sets
+  // scratch.use_body_ids when it applies (spatial index on, no internal facets).
+  void body_candidates(int b, Scratch& scratch) const;
 
   // Orders the piece ids of `ids` nearest first (facet ids after them, in their order): a piece
   // that hides a whole segment ends its test early. O(k log k) for k candidates, or O(P) by a
