@@ -280,15 +280,19 @@ ExactPlane ExactPlane::build(const Vec3& a, const Vec3& b, const Vec3& c, bool d
     rad[i] = radius(lo[i], hi[i], mid[i]);
   }
   const int e = std::ilogb(std::max({std::abs(mid[0]), std::abs(mid[1]), std::abs(mid[2])}));
+  // x·2^-e: one multiplication by the power of two when it is a normal double (the same
+  // correctly rounded result as std::ldexp, without a library call per coefficient).
+  const double power = e > -1000 && e < 1000 ? std::ldexp(1.0, -e) : 0;
+  const auto scaled = [&](double x) { return power != 0 ? x * power : std::ldexp(x, -e); };
   double slope = 0;
   for (int i = 0; i < 3; ++i) {
     // Scaling by 2^-e is exact except in the subnormal range (half an ulp there: kTiny).
-    f.n_[i] = std::ldexp(mid[i], -e);
-    const double r = std::ldexp(rad[i], -e) * (1 + 2 * kUnit) + kTiny;
+    f.n_[i] = scaled(mid[i]);
+    const double r = scaled(rad[i]) * (1 + 2 * kUnit) + kTiny;
     slope += gamma_n(4) * std::abs(f.n_[i]) + r;
   }
-  f.k_ = std::ldexp(mid[3], -e);
-  const double rk = std::ldexp(rad[3], -e) * (1 + 2 * kUnit) + kTiny;
+  f.k_ = scaled(mid[3]);
+  const double rk = scaled(rad[3]) * (1 + 2 * kUnit) + kTiny;
   f.slope_ = slope * kBoundInflation;
   f.offset_ = (gamma_n(4) * std::abs(f.k_) + rk + 8 * kTiny) * kBoundInflation;
   if (!std::isfinite(f.k_) || !std::isfinite(f.slope_) || !std::isfinite(f.offset_))

@@ -93,6 +93,14 @@ HlrResult Roberts::run() {
       for (const HlrSegment& s : o.classes)
         if (s.kind == kind) result_.visible.push_back(s);
   result_.smooth_listed = options_.smooth;
+  // The pieces' volumes freed on the workers: the destructor would free them one by one on
+  // the calling thread, a serial O(pieces) tail of every call.
+  parallel_blocks(pieces_.size(), 0, 64, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) {
+      pieces_[i].volume = OcclusionVolume();
+      std::vector<ExactPlane>().swap(pieces_[i].faces);
+    }
+  });
   return std::move(result_);
 }
 
@@ -343,7 +351,7 @@ void Roberts::build_index() {
   by_near_.resize(pieces_.size());
   std::iota(by_near_.begin(), by_near_.end(), 0);
   std::sort(by_near_.begin(), by_near_.end(), [&](int x, int y) {
-    const double nx = pieces_[static_cast<size_t>(x)].near, ny = pieces_[static_cast<size_t>(y)].near;
+    const double nx = occluder_near_[static_cast<size_t>(x)], ny = occluder_near_[static_cast<size_t>(y)];
     return nx < ny || (nx == ny && x < y);
   });
   near_rank_.resize(pieces_.size());
