@@ -420,6 +420,9 @@ void Roberts::body_candidates(int b, Scratch& scratch) const {
     box.extend(projection_.project(p));
     far = std::max(far, projection_.depth(p));
   }
+  // A body over many cells (a ground slab, a large mesh) would give each of its edges a long
+  // list: its edges walk the grid themselves.
+  if (grid_.covered(box) > 16) return;
   if (scratch.stamp.size() != occluder_count_) scratch.stamp.assign(occluder_count_, 0);
   const unsigned stamp = ++scratch.current;
   grid_.visit(box, [&](int id) {
