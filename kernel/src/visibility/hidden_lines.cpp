@@ -44,6 +44,25 @@ bool segment_meets_box(const Vec2& a, const Vec2& b, const Eigen::AlignedBox2d& 
   return pos > 0 && neg > 0;
 }
 
+// orient3d(a, b, c, d) with Shewchuk's static filter first (his bound for the double
+// determinant of the rounded differences is (7 + 56ε)ε times the permanent; 1e-14 leaves a wide
+// margin), the exact predicate otherwise: most edges join faces far from coplanar.
+Sign orient_filtered(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
+               m2 = v.x() * w.y() - v.y() * w.x();
+  const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
+  const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
+                           std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
+                           std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
+  if (permanent > 1e-250 && permanent < 1e250) {
+    const double bound = 1e-14 * permanent;
+    if (det > bound) return Sign::Positive;
+    if (det < -bound) return Sign::Negative;
+  }
+  return orient3d(a, b, c, d);
+}
+
 }  // namespace
 
 HlrResult Roberts::run() {
@@ -360,7 +379,7 @@ void Roberts::build_index() {
 
 void Roberts::near_first(std::vector<int>& ids, Scratch& scratch) const {
   const int pieces = static_cast<int>(pieces_.size());
-  const auto facet_start = std::stable_partition(ids.begin(), ids.end(), [&](int id) { return id < pieces; });
+  const auto facet_start = facets_.empty() ? ids.end() : std::stable_partition(ids.begin(), ids.end(), [&](int id) { return id < pieces; });
   const size_t k = static_cast<size_t>(facet_start - ids.begin());
   if (k < 2) return;
   if (k * 16 < pieces_.size()) {
@@ -505,8 +524,8 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     const auto& sl = body.support(edge.left_face);
     bool coplanar = true;
     for (int k : body.support(edge.right_face))
-      coplanar = coplanar && orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
-                                           v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
+      coplanar = coplanar && orient_filtered(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
+                                                  v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
     // A two-sided face's edges join its two faces, which share one plane: all are drawn.
     if ((coplanar && !body.two_sided()) || end_on(p1, p2)) continue;
     // A smooth edge is drawn only when asked, as its own kind.
