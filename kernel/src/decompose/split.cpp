@@ -428,7 +428,7 @@ std::vector<std::array<int, 3>> chained_cap(const Context& ctx, int plane, std::
       from = loop[i];
     }
   }
-  if (run.empty()) return cap_triangles(ctx, plane, pts, corners);
+  if (run.empty()) return cap_triangles(ctx, plane, pts, segments);  // as given: same insertion order
   std::vector<std::array<int, 3>> tris = cap_triangles(ctx, plane, pts, corners);
   std::vector<std::array<int, 3>> out;
   size_t used = 0;
