@@ -117,6 +117,43 @@ def measure_case(hedra, name, t, path, work, timeout=TIMEOUT_S):
     return entry
 
 
+STAR_POINTS = [400, 800, 4000]
+
+
+def star_scene(n):
+    """A prism over an n-point star (radii 1 and 0.5, n/2 reflex vertical edges), height 1."""
+    import math
+    polygon = [[(1.0 if i % 2 == 0 else 0.5) * math.cos(2 * math.pi * i / n),
+                (1.0 if i % 2 == 0 else 0.5) * math.sin(2 * math.pi * i / n)] for i in range(n)]
+    return {"version": 1, "bodies": [{"name": "star", "prism": {"polygon": polygon, "z": [0, 1]}},
+                                      {"name": "ground", "box": {"min": [-3, -3, -0.5], "max": [3, 3, 0]}}],
+            "camera": {"projection": "perspective", "eye": [3, -4, 3], "target": [0, 0, 0.5], "fov_deg": 40},
+            "lights": LIGHTS, "image": IMAGE}
+
+
+def measure_star(hedra, n, work):
+    """`decompose` (the star alone, --threads 1) and `render --shadows exact` of the scene."""
+    path = os.path.join(work, f"star{n}.json")
+    with open(path, "w") as f:
+        json.dump(star_scene(n), f)
+    entry = {"case": "star", "t": n, "faces": n + 2, "runs": {}}
+    for name, cmd in (("decompose", [hedra, "decompose", path, "--json", "--threads", "1"]),
+                      ("render", [hedra, "render", path, "-o", os.path.join(work, "star.png"),
+                                  "--shadows", "exact", "--threads", "1"])):
+        r = peak_kb(cmd)
+        keep = {k: r.get(k) for k in ("rc", "cpu_s", "wall_s", "peak_kb", "error")}
+        if name == "decompose" and r.get("rc") == 0:
+            try:
+                keep["pieces"] = json.loads(r["stdout"])["pieces"]
+            except (json.JSONDecodeError, KeyError, TypeError):
+                keep["pieces"] = None
+        if r.get("rc") not in (0, None):
+            keep["stderr"] = r.get("stderr")
+        entry["runs"][name] = keep
+        print(f"  star n={n} {name}: {keep.get('cpu_s') or 0:.2f} s CPU", flush=True)
+    return entry
+
+
 def write_mesh(hedra, work):
     """A sphere of about 1 M triangles as an OFF file: hedra's own sphere converted (exact
     doubles), each quad written as two triangles."""
@@ -166,6 +203,10 @@ def main():
                 json.dump(scene(t), f)
             entries.append(measure_case(hedra, "scene", t, path, work))
             save(out_path, quick, entries)
+        if not only or only.startswith("star"):
+            for n in STAR_POINTS:
+                entries.append(measure_star(hedra, n, work))
+                save(out_path, quick, entries)
         if not quick and (not only or only.startswith("mesh")):
             try:
                 mesh, triangles = write_mesh(hedra, work)
