@@ -68,6 +68,35 @@ SurfaceBoundary surface_boundary(const PolygonSoup& soup) {
   return out;
 }
 
+bool is_open_surface(const PolygonSoup& soup) {
+  std::set<std::pair<int, int>> directed;
+  for (const auto& poly : soup.polygons)
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const int a = poly[i], b = poly[(i + 1) % poly.size()];
+      if (a < 0 || b < 0 || static_cast<size_t>(std::max(a, b)) >= soup.vertices.size()) return false;
+      if (!directed.emplace(a, b).second) return false;
+    }
+  return !directed.empty() && surface_boundary(soup).boundary_edges > 0;
+}
+
+SurfaceSummary summarize_surface(const PolygonSoup& soup) {
+  SurfaceSummary out;
+  out.boundary = surface_boundary(soup);
+  out.edges = out.boundary.edges;
+  out.faces = static_cast<int>(soup.polygons.size());
+  std::set<int> used;
+  for (const auto& poly : soup.polygons) {
+    used.insert(poly.begin(), poly.end());
+    Vec3 n = Vec3::Zero();  // Newell's area vector
+    for (size_t i = 0; i < poly.size(); ++i)
+      n += soup.vertices[static_cast<size_t>(poly[i])].cross(
+          soup.vertices[static_cast<size_t>(poly[(i + 1) % poly.size()])]);
+    out.area += n.norm() / 2;
+  }
+  out.vertices = static_cast<int>(used.size());
+  return out;
+}
+
 std::vector<Body> two_sided_faces(const PolygonSoup& soup) {
   // Stage: convex loops, each polygon whole or as its triangles.
   std::vector<Loop> loops;

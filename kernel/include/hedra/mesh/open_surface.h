@@ -27,6 +27,22 @@ struct SurfaceBoundary {
 /// \pre every index in range. Cost O(E log E).
 SurfaceBoundary surface_boundary(const PolygonSoup& soup);
 
+/// Whether hidden lines, shadows and rendering take the soup as an open surface: every index
+/// in range, each directed edge at most once (consistently oriented, no edge of three faces),
+/// and at least one boundary edge. A closed mesh, or one with a flipped face, is not one.
+/// Cost O(E log E).
+bool is_open_surface(const PolygonSoup& soup);
+
+/// What `hedra info` reports of an open surface: vertices used, edges, faces, its boundary,
+/// and the area (the sum of the faces' Newell areas).
+struct SurfaceSummary {
+  int vertices = 0, edges = 0, faces = 0;
+  SurfaceBoundary boundary;
+  double area = 0;
+};
+/// \pre every index in range. Cost O(E log E).
+SurfaceSummary summarize_surface(const PolygonSoup& soup);
+
 /// The faces of an open surface as two-sided convex faces, in soup order. A polygon that is
 /// exactly planar and strictly convex is kept whole; any other (non-convex, not planar, with
 /// collinear corners) is triangulated in its Newell plane and its triangles are merged back
