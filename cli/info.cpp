@@ -203,7 +203,7 @@ Scene load_scene(const std::string& path) {
     if (!is_open_surface(soup)) throw;
     std::vector<Body> faces;
     try {
-      faces = two_sided_faces(soup);
+      faces = two_sided_faces(soup, import_tolerance);
     } catch (const InvalidInput& inner) {
       throw InvalidInput(path + ": open surface: " + inner.what());
     }

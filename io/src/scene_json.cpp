@@ -455,9 +455,11 @@ class SceneReader {
   }
 
   // Adds an open surface (a "mesh" or "polyhedron" body that is not closed, `why` being the
-  // error that says so) as its two-sided faces, scene bodies <name>.f<i>, and its record.
+  // error that says so) as its two-sided faces, scene bodies <name>.f<i>, and its record;
+  // `tolerance`: two_sided_faces'.
   void add_surface(const JsonValue& b, const std::string& name, const JsonValue& s,
-                   PolygonSoup soup, const Transform& t, const std::string& why, Scene& scene) {
+                   PolygonSoup soup, const Transform& t, const std::string& why, double tolerance,
+                   Scene& scene) {
     SceneSurface record;
     record.name = name;
     record.not_solid = (why.rfind(path_ + ":", 0) == 0 ? why : where(s) + context_ + why) +
@@ -482,7 +484,7 @@ class SceneReader {
     record.area = summary.area;
     std::vector<Body> faces;
     try {
-      faces = two_sided_faces(soup);
+      faces = two_sided_faces(soup, tolerance);
     } catch (const InvalidInput& e) {
       fail(s, std::string("open surface: ") + e.what());
     }
@@ -593,7 +595,9 @@ class SceneReader {
       if (shape == "mesh") open = open_mesh(s);
       if (shape == "polyhedron") open = open_polyhedron(s);
       if (open) {
-        add_surface(b, name, s, std::move(*open), t, e.what(), scene);
+        // The import tolerance applies to meshes, as for closed ones.
+        add_surface(b, name, s, std::move(*open), t, e.what(),
+                    shape == "mesh" ? mesh_options_.merge.coplanar_tolerance : 0, scene);
         return;
       }
       if (std::string(e.what()).rfind(path_ + ":", 0) == 0) throw;

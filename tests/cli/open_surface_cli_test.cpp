@@ -194,7 +194,9 @@ TEST(OpenSurfaceCli, SceneFileCombinesAnOpenTerrainWithASolidAndALight) {
     if (std::max(std::abs(mx), std::abs(my)) == 3)  // its drawn (x, y) length
       border += std::hypot(s[3].get<double>() - s[0].get<double>(), s[4].get<double>() - s[1].get<double>());
     if (mz == 1.5) top += length(s);
-    if (mz < 1) EXPECT_FALSE(std::abs(mx) < 0.5 && std::abs(my) < 0.5) << s;
+    if (mz < 1) {
+      EXPECT_FALSE(std::abs(mx) < 0.5 && std::abs(my) < 0.5) << s;
+    }
   }
   EXPECT_NEAR(border, 24, 1e-12);
   EXPECT_NEAR(top, 4, 1e-12);
@@ -227,6 +229,66 @@ TEST(OpenSurfaceCli, SceneFileCombinesAnOpenTerrainWithASolidAndALight) {
   }
   EXPECT_GT(green, w * hgt / 4);
   EXPECT_GT(red, 100);
+  fs::remove_all(dir);
+}
+
+// `--tolerance D` on an open surface: a grid of 10 × 10 cells of two triangles over [0, 5]² on
+// the plane z = 0.3x + 0.2y, its vertices moved by up to 1e-9 along z.
+std::string noisy_grid_off() {
+  const int n = 10;
+  std::ostringstream out;
+  out.precision(17);
+  out << "OFF\n" << (n + 1) * (n + 1) << " " << 2 * n * n << " 0\n";
+  unsigned state = 7;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      state = state * 1103515245u + 12345u;
+      const double r = static_cast<double>((state >> 8) % 2001) / 1000 - 1;
+      const double x = 0.5 * i, y = 0.5 * j;
+      out << x << " " << y << " " << 0.3 * x + 0.2 * y + 1e-9 * r << "\n";
+    }
+  const auto at = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      out << "3 " << at(i, j) << " " << at(i + 1, j) << " " << at(i + 1, j + 1) << "\n";
+      out << "3 " << at(i, j) << " " << at(i + 1, j + 1) << " " << at(i, j + 1) << "\n";
+    }
+  return out.str();
+}
+
+TEST(OpenSurfaceCli, ToleranceMergesNearlyCoplanarFacesOfAnOpenSurface) {
+  const fs::path dir = hedra::testing::temp_dir("open_tolerance_cli");
+  const std::string grid = hedra::testing::write(dir / "grid.off", noisy_grid_off());
+  const std::string json = (dir / "h.json").string();
+  // Drawn from above: exact, every edge between the noisy triangles is a crease; within
+  // D = 1e-6, one face whose 4 edges are the border (length 2 · 5 · (√1.09 + √1.04)).
+  auto r = run_hedra("hlr " + grid + " --json " + json);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(nlohmann::json::parse(read(json))["visible"].size(), 200u);
+  r = run_hedra("hlr " + grid + " --tolerance 1e-6 --json " + json);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json h = nlohmann::json::parse(read(json));
+  EXPECT_EQ(h["visible"].size(), 4u);
+  double drawn = 0;
+  for (const auto& s : h["visible"]) drawn += length(s);
+  EXPECT_NEAR(drawn, 10 * (std::sqrt(1.09) + std::sqrt(1.04)), 1e-5);
+  // The same through a scene file: its "tolerance", and the command's.
+  const std::string light = R"(, "lights": [{"type": "directional", "direction": [0, 0, -1]}]})";
+  const std::string scene = hedra::testing::write(
+      dir / "s.json", R"({"version": 1, "tolerance": 1e-6, "bodies": [{"name": "g", "mesh": "grid.off"}])" + light);
+  const std::string exact = hedra::testing::write(
+      dir / "e.json", R"({"version": 1, "bodies": [{"name": "g", "mesh": "grid.off"}])" + light);
+  for (const std::string& command : {"shadows " + scene, "shadows --tolerance 1e-6 " + exact, "shadows " + exact}) {
+    r = run_hedra(command + " --json " + json);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json shadows = nlohmann::json::parse(read(json));
+    const size_t faces = shadows["lights"][0]["faces"].size();  // two sides per face
+    if (command == "shadows " + exact) {
+      EXPECT_GT(faces, 300u) << command;
+    } else {
+      EXPECT_EQ(faces, 2u) << command;
+    }
+  }
   fs::remove_all(dir);
 }
 

@@ -50,8 +50,22 @@ SurfaceSummary summarize_surface(const PolygonSoup& soup);
 /// no drawn edge is an artefact of the triangulation between exactly coplanar triangles.
 /// Exactly coplanar neighbouring faces of the soup are merged the same way (a flat region given
 /// as triangles is drawn without its diagonals). Zero-area triangles are dropped.
+///
+/// `tolerance` D > 0 (the command's `--tolerance`) first merges nearly coplanar neighbours, as
+/// for closed meshes (MergeOptions::coplanar_tolerance, snap_surface): regions of neighbours
+/// within D of their first face's plane get their fitted plane, every vertex moves onto the
+/// planes of its regions by at most D (certified; farther, it stays); a region bounded by one
+/// simple loop becomes that loop, its interior vertices gone, and a vertex of the loop used by
+/// it alone (on the surface's boundary) or by one other such region (on a crease, then left
+/// out of both loops alike) is left out where it lies within D of the chord that replaces it;
+/// the result is
+/// then made convex faces as above, planar within the rounding of the snapped coordinates
+/// (kRoundingPlanarity, as closed bodies' faces). Every vertex kept is within D of its input
+/// position, every vertex left out within D of the output. Where that gives no valid faces,
+/// the surface is taken exactly (D = 0).
 /// \throw InvalidInput naming the polygon when one cannot be triangulated (self-crossing), or
-///   when no face has non-zero area. Cost O(F log F + n) for F faces of n vertices in all.
-std::vector<Body> two_sided_faces(const PolygonSoup& soup);
+///   when no face has non-zero area. Cost O(F log F + n) for F faces of n vertices in all;
+///   with D > 0 also O(R²) for R regions and O(b²) per region of b boundary vertices.
+std::vector<Body> two_sided_faces(const PolygonSoup& soup, double tolerance = 0);
 
 }  // namespace hedra
