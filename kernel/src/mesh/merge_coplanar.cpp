@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <Eigen/SVD>
@@ -245,7 +246,11 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   if (max_abs > 0 && std::isfinite(max_abs)) std::frexp(max_abs, &exponent);
   const double normal_scale = std::ldexp(1.0, -2 * exponent);
   for (int p = 0; p < n; ++p) {
-    normals[p] = newell_normal(v, polys[p]) * normal_scale;
+    const Vec3 oriented = oriented_normal(v, polys[p]);
+    normals[p] = oriented * normal_scale;
+    for (int axis = 0; axis < 3; ++axis)  // the scaling must not drop an exact sign
+      if (oriented[axis] != 0 && normals[p][axis] == 0)
+        normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
     // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
     // triangles, such as the corner faces of decomposition pieces written to files.
     supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
@@ -303,7 +308,7 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
           a = next[a].first;
         }
         if (a != a0) { pinched = true; break; }
-        bool outer = newell_normal(mv, loop).dot(normal) > 0;
+        bool outer = oriented_normal(mv, loop).dot(normal) > 0;
         outers += outer;
         if (outer) loops.insert(loops.begin(), std::move(loop));
         else loops.push_back(std::move(loop));
@@ -441,7 +446,11 @@ SnappedSurface snap_surface(const PolygonSoup& soup, double tolerance) {
     for (int w : polys[p])
       if (w < 0 || static_cast<size_t>(w) >= v.size())
         throw InvalidInput("polygon " + std::to_string(p) + " refers to a vertex out of range");
-    normals[p] = newell_normal(v, polys[p]) * normal_scale;
+    const Vec3 oriented = oriented_normal(v, polys[p]);  // as in merge_once
+    normals[p] = oriented * normal_scale;
+    for (int axis = 0; axis < 3; ++axis)
+      if (oriented[axis] != 0 && normals[p][axis] == 0)
+        normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
     supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
                                                   : support_triple(v, polys[p], normals[p]);
     if (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]]))
