@@ -111,11 +111,17 @@ double import_tolerance = 0;
 
 void set_import_tolerance(double tolerance) { import_tolerance = tolerance; }
 
-std::vector<NamedBody> load_bodies(const std::string& path) {
+std::vector<NamedBody> load_bodies(const std::string& path, std::vector<OpenSurface>* surfaces) {
   std::vector<NamedBody> named;
   if (io::is_scene_path(path)) {
     Scene scene = io::read_scene(path, import_tolerance);
-    for (const SceneBody* b : scene.visible_bodies()) named.push_back({b->name, b->body, b->lod_note});
+    // Open surfaces are not solids: `info` reports them apart, the other commands refuse them.
+    if (!scene.surfaces.empty() && !surfaces) throw InvalidInput(scene.surfaces[0].not_solid);
+    for (const SceneSurface& s : scene.surfaces)
+      surfaces->push_back({s.name, s.vertices, s.edges, s.faces, s.boundary_edges, s.first_from,
+                           s.first_to, s.area});
+    for (const SceneBody* b : scene.visible_bodies())
+      if (!b->body.two_sided()) named.push_back({b->name, b->body, b->lod_note});
     return named;
   }
   io::ReadOptions options;
@@ -163,14 +169,17 @@ std::optional<OpenSurface> open_surface(const std::string& path) {
   return out;
 }
 
+nlohmann::json open_surface_json(const OpenSurface& s) {
+  return {{"name", s.name},        {"vertices", s.vertices},
+          {"edges", s.edges},      {"faces", s.faces},
+          {"closed", false},       {"boundary_edges", s.boundary_edges},
+          {"first_boundary_edge", {s.first_a, s.first_b}},
+          {"area", s.area}};
+}
+
 void print_open_surface(std::ostream& out, const OpenSurface& s, bool json) {
   if (json) {
-    nlohmann::json j = {{"name", s.name},        {"vertices", s.vertices},
-                        {"edges", s.edges},      {"faces", s.faces},
-                        {"closed", false},       {"boundary_edges", s.boundary_edges},
-                        {"first_boundary_edge", {s.first_a, s.first_b}},
-                        {"area", s.area}};
-    out << nlohmann::json{{"bodies", nlohmann::json::array({j})}}.dump(2) << "\n";
+    out << nlohmann::json{{"bodies", nlohmann::json::array({open_surface_json(s)})}}.dump(2) << "\n";
     return;
   }
   // Formatted with the name apart, so that a long name never cuts the row (see print_info_table).
@@ -199,18 +208,10 @@ Scene load_scene(const std::string& path) {
     // Taken as a surface when it has boundary edges and each directed edge once (consistently
     // oriented, no edge shared by three faces); a flipped face of a solid stays an error.
     const PolygonSoup soup = io::read_soup(path);
-    std::set<std::pair<int, int>> directed;
-    bool consistent = true;
-    for (const auto& poly : soup.polygons)
-      for (size_t i = 0; i < poly.size(); ++i) {
-        const int a = poly[i], b = poly[(i + 1) % poly.size()];
-        if (a < 0 || b < 0 || static_cast<size_t>(std::max(a, b)) >= soup.vertices.size()) throw;
-        consistent = directed.emplace(a, b).second && consistent;
-      }
-    if (!consistent || surface_boundary(soup).boundary_edges == 0) throw;
+    if (!is_open_surface(soup)) throw;
     std::vector<Body> faces;
     try {
-      faces = two_sided_faces(soup);
+      faces = two_sided_faces(soup, import_tolerance);
     } catch (const InvalidInput& inner) {
       throw InvalidInput(path + ": open surface: " + inner.what());
     }

@@ -137,8 +137,9 @@ int main(int argc, char** argv) {
   try {
     if (*info) {
       std::vector<hedra::cli::NamedBody> bodies;
+      std::vector<hedra::cli::OpenSurface> surfaces;  // a scene's open surfaces
       try {
-        bodies = hedra::cli::load_bodies(info_file);
+        bodies = hedra::cli::load_bodies(info_file, &surfaces);
       } catch (const hedra::InvalidInput& e) {
         // An open surface (consistently oriented and manifold, with boundary edges) is not a
         // body, but hlr, shadows and render take it (two-sided faces): its report, exit 0.
@@ -149,12 +150,18 @@ int main(int argc, char** argv) {
           }
         throw;
       }
-      if (info_json)
-        std::cout << hedra::cli::info_json(bodies, info_matrix)
-                         .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
-                  << "\n";
-      else
-        hedra::cli::print_info_table(std::cout, bodies, info_matrix);
+      if (info_json) {
+        nlohmann::json report = hedra::cli::info_json(bodies, info_matrix);
+        for (const auto& s : surfaces) report["bodies"].push_back(hedra::cli::open_surface_json(s));
+        std::cout << report.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << "\n";
+      } else {
+        if (!bodies.empty() || surfaces.empty())
+          hedra::cli::print_info_table(std::cout, bodies, info_matrix);
+        for (size_t i = 0; i < surfaces.size(); ++i) {
+          if (i > 0 || !bodies.empty()) std::cout << "\n";
+          hedra::cli::print_open_surface(std::cout, surfaces[i], false);
+        }
+      }
     } else if (*convert) {
       const bool to_scene = hedra::io::is_scene_path(convert_out);
       if (!to_scene) hedra::io::format_of(convert_out);  // reject an unknown format before reading

@@ -13,6 +13,7 @@
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/text_reader.h"
 #include "hedra/mesh/boolean.h"
+#include "hedra/mesh/open_surface.h"
 #include "hedra/mesh/self_intersection.h"
 #include "hedra/core/error.h"
 #include "hedra/scene/lod.h"
@@ -71,8 +72,7 @@ class SceneReader {
  private:
   // ---- errors and typed access -------------------------------------------------------------
   [[noreturn]] void fail(const JsonValue& at, const std::string& message) const {
-    throw InvalidInput(path_ + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
-                       ": " + context_ + message);
+    throw InvalidInput(where(at) + context_ + message);
   }
 
   void allow(const JsonValue& object, std::initializer_list<const char*> keys) const {
@@ -374,7 +374,12 @@ class SceneReader {
       } else if (shape == "polyhedron") {
         for (const JsonValue& p : member(s, "vertices").items) box.extend(vec3(p, "vertex"));
       } else if (shape == "mesh") {
-        for (const Body& m : read_mesh(s)) box.extend(m.bbox());
+        if (const std::optional<PolygonSoup> open = open_mesh(s)) {
+          for (const auto& poly : open->polygons)
+            for (int w : poly) box.extend(open->vertices[static_cast<size_t>(w)]);
+        } else {
+          for (const Body& m : read_mesh(s)) box.extend(m.bbox());
+        }
       } else if (s.kind == Kind::Array && s.items.size() == 2 &&
                  s.items[0].kind == Kind::String && s.items[1].kind == Kind::String) {
         Eigen::AlignedBox3d a = take(s.items[0].string), c = take(s.items[1].string);
@@ -416,6 +421,99 @@ class SceneReader {
     }
   }
 
+  // The polygons of a "mesh" file that is an open surface (is_open_surface), else none. Read
+  // at most once per body: the answer is kept by file path.
+  std::optional<PolygonSoup> open_mesh(const JsonValue& v) {
+    const std::string path = mesh_path(v);
+    if (auto it = open_meshes_.find(path); it != open_meshes_.end()) return it->second;
+    std::optional<PolygonSoup> out;
+    try {
+      PolygonSoup soup = read_soup(path);
+      if (is_open_surface(soup)) out = std::move(soup);
+    } catch (const Error&) {
+      // Unreadable or malformed: not a surface; read_mesh reports it.
+    }
+    open_meshes_[path] = out;
+    return out;
+  }
+
+  // The polygons of a "polyhedron" that is an open surface, else none (a face with holes, or
+  // of fewer than 3 vertices, is not one of a surface).
+  std::optional<PolygonSoup> open_polyhedron(const JsonValue& s) const {
+    const JsonValue* vs = s.find("vertices");
+    const JsonValue* fs = s.find("faces");
+    if (!vs || !fs || vs->kind != Kind::Array || fs->kind != Kind::Array) return std::nullopt;
+    PolygonSoup soup;
+    for (const JsonValue& p : vs->items) soup.vertices.push_back(vec3(p, "a vertex"));
+    for (const JsonValue& f : fs->items) {
+      const Face face = read_face(f);
+      if (face.loops.size() != 1 || face.loops[0].size() < 3) return std::nullopt;
+      soup.polygons.push_back(face.loops[0]);
+    }
+    if (!is_open_surface(soup)) return std::nullopt;
+    return soup;
+  }
+
+  // Adds an open surface (a "mesh" or "polyhedron" body that is not closed, `why` being the
+  // error that says so) as its two-sided faces, scene bodies <name>.f<i>, and its record;
+  // `tolerance`: two_sided_faces'.
+  void add_surface(const JsonValue& b, const std::string& name, const JsonValue& s,
+                   PolygonSoup soup, const Transform& t, const std::string& why, double tolerance,
+                   Scene& scene) {
+    SceneSurface record;
+    record.name = name;
+    record.not_solid = (why.rfind(path_ + ":", 0) == 0 ? why : where(s) + context_ + why) +
+                       " (an open surface: hlr, shadows and render take it as two-sided faces)";
+    if (!t.matrix().isIdentity()) {
+      // As Body::transformed: projective maps must keep w > 0; reflections reverse the loops.
+      for (size_t i = 0; i < soup.vertices.size(); ++i) {
+        const Vec4 h = t.apply_homogeneous(soup.vertices[i]);
+        if (!(h.w() > 0)) fail(s, "vertex " + std::to_string(i) + " maps onto or behind the centre of projection");
+        soup.vertices[i] = h.w() == 1.0 ? Vec3(h.head<3>()) : Vec3(h.head<3>() / h.w());
+      }
+      if (t.matrix().determinant() < 0)
+        for (auto& poly : soup.polygons) std::reverse(poly.begin(), poly.end());
+    }
+    const SurfaceSummary summary = summarize_surface(soup);
+    record.vertices = summary.vertices;
+    record.edges = summary.edges;
+    record.faces = summary.faces;
+    record.boundary_edges = summary.boundary.boundary_edges;
+    record.first_from = summary.boundary.first_from;
+    record.first_to = summary.boundary.first_to;
+    record.area = summary.area;
+    std::vector<Body> faces;
+    try {
+      faces = two_sided_faces(soup, tolerance);
+    } catch (const InvalidInput& e) {
+      fail(s, std::string("open surface: ") + e.what());
+    }
+    const Material material = b.find("material") ? read_material(*b.find("material")) : Material();
+    const bool hidden = b.find("hidden") && flag(*b.find("hidden"), "'hidden'");
+    for (size_t i = 0; i < faces.size(); ++i) {
+      const std::string face_name = name + ".f" + std::to_string(i);
+      if (taken(face_name, scene))
+        fail(member(b, "name"), "body name '" + face_name + "' (a face of the open surface '" + name +
+                                    "') is used twice");
+      SceneBody& added = scene.add(face_name, faces[i], material);
+      added.hidden = hidden;
+    }
+    scene.surfaces.push_back(std::move(record));
+  }
+
+  // "file:line:column: " of a value.
+  std::string where(const JsonValue& at) const {
+    return path_ + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) + ": ";
+  }
+
+  // A name is taken by a body or by an open surface (whose faces are the bodies).
+  static bool taken(const std::string& name, const Scene& scene) {
+    if (scene.contains(name)) return true;
+    for (const SceneSurface& s : scene.surfaces)
+      if (s.name == name) return true;
+    return false;
+  }
+
   // A primitive within the face budget; over it, the message adds how the tolerance was chosen
   // and how to allow more faces.
   template <class Build>
@@ -445,6 +543,9 @@ class SceneReader {
 
   const Body& operand(const JsonValue& v, const Scene& scene) const {
     const std::string name = text(v, "operand");
+    for (const SceneSurface& surface : scene.surfaces)
+      if (surface.name == name)
+        fail(v, "operand '" + name + "' is an open surface; Booleans need closed bodies");
     if (!scene.contains(name))
       fail(v, "operand '" + name + "' is not a body defined earlier in the list");
     return scene.get(name).body;
@@ -455,7 +556,7 @@ class SceneReader {
     if (b.kind != Kind::Object) fail(b, "a body must be an object");
     const std::string name = text(member(b, "name"), "'name'");
     if (name.empty()) fail(member(b, "name"), "'name' must not be empty");
-    if (scene.contains(name)) fail(member(b, "name"), "body name '" + name + "' is used twice");
+    if (taken(name, scene)) fail(member(b, "name"), "body name '" + name + "' is used twice");
     context_ = "body '" + name + "': ";
     std::string shape;
     const JsonValue& s = *shape_of(b, shape);
@@ -488,6 +589,17 @@ class SceneReader {
         check_no_self_intersection(*body);
       surface = surface.transformed(t);
     } catch (const InvalidInput& e) {
+      // A "mesh" or "polyhedron" that is an open surface (a scan, a terrain) is not a body, but
+      // hidden lines, shadows and rendering take it as two-sided faces.
+      std::optional<PolygonSoup> open;
+      if (shape == "mesh") open = open_mesh(s);
+      if (shape == "polyhedron") open = open_polyhedron(s);
+      if (open) {
+        // The import tolerance applies to meshes, as for closed ones.
+        add_surface(b, name, s, std::move(*open), t, e.what(),
+                    shape == "mesh" ? mesh_options_.merge.coplanar_tolerance : 0, scene);
+        return;
+      }
       if (std::string(e.what()).rfind(path_ + ":", 0) == 0) throw;
       fail(s, e.what());
     }
@@ -614,6 +726,7 @@ class SceneReader {
 
   std::string path_;
   ReadOptions mesh_options_;  // how "mesh" bodies are imported
+  std::map<std::string, std::optional<PolygonSoup>> open_meshes_;  // open_mesh's answers by path
   std::string context_;
   const Camera* camera_ = nullptr;
   const JsonValue* bodies_json_ = nullptr;

@@ -102,4 +102,194 @@ TEST(OpenSurfaceCli, ScanRendersDrawsAndCastsShadows) {
   fs::remove_all(dir);
 }
 
+// A height-field terrain over [-3, 3]², 12 × 12 cells of two triangles, at z = 10 + h: flat
+// (h = 0) where |x|, |y| ≤ 1.5, gentle hills elsewhere (h ≤ 0.05, slopes ≤ 0.1: no terrain face
+// shades another under a light steeper than that).
+std::string terrain_off() {
+  const int n = 12;
+  std::ostringstream out;
+  out.precision(17);
+  out << "OFF\n" << (n + 1) * (n + 1) << " " << 2 * n * n << " 0\n";
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      const double x = -3 + 0.5 * i, y = -3 + 0.5 * j;
+      const bool flat = std::abs(x) <= 1.5 && std::abs(y) <= 1.5;
+      out << x << " " << y << " " << 10 + (flat ? 0 : 0.05 * ((i * 7 + j * 3) % 5) / 4) << "\n";
+    }
+  const auto at = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      out << "3 " << at(i, j) << " " << at(i + 1, j) << " " << at(i + 1, j + 1) << "\n";
+      out << "3 " << at(i, j) << " " << at(i + 1, j + 1) << " " << at(i, j + 1) << "\n";
+    }
+  return out.str();
+}
+
+// A scene combining an open terrain (a "mesh" moved down by 10), an open inline polyhedron (a
+// square panel at z = 3 whose shadow falls off the terrain), a box and a light.
+std::string terrain_scene(const std::string& camera) {
+  return R"({"version": 1, "bodies": [
+ {"name": "terrain", "mesh": "terrain.off", "transform": [{"translate": [0, 0, -10]}],
+  "material": {"color": [0.3, 0.7, 0.3]}},
+ {"name": "panel", "polyhedron": {"vertices": [[2.5, 2.5, 3], [2.9, 2.5, 3], [2.9, 2.9, 3], [2.5, 2.9, 3]],
+  "faces": [[0, 1, 2, 3]]}},
+ {"name": "box", "box": {"min": [-0.5, -0.5, 0.5], "max": [0.5, 0.5, 1.5]}, "material": {"color": [0.8, 0.2, 0.2]}}],
+ "camera": )" + camera + R"(,
+ "lights": [{"type": "directional", "direction": [0.3, 0.2, -1]}],
+ "image": {"width": 200, "height": 150}}
+)";
+}
+
+double length(const nlohmann::json& s) {
+  return std::hypot(s[3].get<double>() - s[0].get<double>(), s[4].get<double>() - s[1].get<double>(),
+                    s[5].get<double>() - s[2].get<double>());
+}
+
+TEST(OpenSurfaceCli, SceneFileCombinesAnOpenTerrainWithASolidAndALight) {
+  const fs::path dir = hedra::testing::temp_dir("open_scene_cli");
+  hedra::testing::write(dir / "terrain.off", terrain_off());
+  const std::string scene = hedra::testing::write(
+      dir / "scene.json", terrain_scene(R"({"projection": "parallel", "direction": [0, 0, -1], "up": [0, 1, 0]})"));
+  // info: the box is a solid; the terrain and the panel are open surfaces (boundary edge counts:
+  // the grid's 4 × 12 edges, the panel's 4).
+  auto r = run_hedra("info --json " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json info = nlohmann::json::parse(r.out)["bodies"];
+  ASSERT_EQ(info.size(), 3u) << r.out;
+  EXPECT_EQ(info[0]["name"], "box");
+  EXPECT_EQ(info[0]["closed"], true);
+  EXPECT_EQ(info[1]["name"], "terrain");
+  EXPECT_EQ(info[1]["closed"], false);
+  EXPECT_EQ(info[1]["faces"], 288);
+  EXPECT_EQ(info[1]["boundary_edges"], 48);
+  EXPECT_EQ(info[2]["name"], "panel");
+  EXPECT_EQ(info[2]["boundary_edges"], 4);
+  EXPECT_NEAR(info[2]["area"].get<double>(), 0.16, 1e-12);
+  r = run_hedra("info " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("open surface"), std::string::npos) << r.out;
+  // Solid commands refuse it: the scene file, the body and the first boundary edge.
+  const std::string segments = hedra::testing::write(dir / "segments.txt", "0 0 -5 0 0 5\n");
+  for (const std::string& command :
+       {"decompose " + scene, "clip --body " + scene + " --segments " + segments + " -o " + (dir / "p.txt").string(),
+        "convert " + scene + " " + (dir / "out.off").string()}) {
+    r = run_hedra(command);
+    EXPECT_EQ(r.code, 3) << command;
+    EXPECT_NE(r.err.find(scene + ":2:"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("body 'terrain'"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("boundary edges, first between vertices 0 (-3, -3, 10) and 1 (-2.5, -3, 10)"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(dir / "p.txt") || fs::exists(dir / "out.off"));
+  }
+  // Hidden lines seen from straight above: the terrain's border (24 long) and the box's top
+  // (4) are seen whole; no terrain edge under the box is seen.
+  r = run_hedra("hlr " + scene + " -o " + (dir / "h.svg").string() + " --json " + (dir / "h.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json h = nlohmann::json::parse(read(dir / "h.json"));
+  double border = 0, top = 0;
+  for (const auto& s : h["visible"]) {
+    const double mx = (s[0].get<double>() + s[3].get<double>()) / 2, my = (s[1].get<double>() + s[4].get<double>()) / 2;
+    const double mz = (s[2].get<double>() + s[5].get<double>()) / 2;
+    if (std::max(std::abs(mx), std::abs(my)) == 3)  // its drawn (x, y) length
+      border += std::hypot(s[3].get<double>() - s[0].get<double>(), s[4].get<double>() - s[1].get<double>());
+    if (mz == 1.5) top += length(s);
+    if (mz < 1) {
+      EXPECT_FALSE(std::abs(mx) < 0.5 && std::abs(my) < 0.5) << s;
+    }
+  }
+  EXPECT_NEAR(border, 24, 1e-12);
+  EXPECT_NEAR(top, 4, 1e-12);
+  // Shadows: the box's shadow on the terrain's upper side (face 0 of its faces) along the light
+  // (0.3, 0.2, −1) on the flat part: the unit square swept by the shift of the box's height
+  // 1, area 1 + 0.3 + 0.2 (the panel's shadow falls beyond the terrain).
+  r = run_hedra("shadows " + scene + " --json " + (dir / "s.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  double on_terrain = 0;
+  const nlohmann::json shadows = nlohmann::json::parse(read(dir / "s.json"));
+  for (const auto& face : shadows["lights"][0]["faces"]) {
+    const std::string body = face["body"];
+    if (body.rfind("terrain.f", 0) == 0 && face["face"] == 0) {
+      EXPECT_FALSE(face["self_shadowed"].get<bool>()) << body;
+      on_terrain += face["shadow_area"].get<double>();
+    }
+  }
+  EXPECT_NEAR(on_terrain, 1.5, 1e-9);
+  // Rendering: the terrain's green and the box's red are both on the picture.
+  r = run_hedra("render " + scene + " -o " + (dir / "r.png").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  int w = 0, hgt = 0;
+  const std::vector<uint8_t> rgb = hedra::io::read_png((dir / "r.png").string(), &w, &hgt);
+  EXPECT_EQ(w, 200);
+  EXPECT_EQ(hgt, 150);
+  int green = 0, red = 0;
+  for (size_t i = 0; i + 2 < rgb.size(); i += 3) {
+    green += rgb[i + 1] > rgb[i] + 40 && rgb[i + 1] > rgb[i + 2] + 40;
+    red += rgb[i] > rgb[i + 1] + 40 && rgb[i] > rgb[i + 2] + 40;
+  }
+  EXPECT_GT(green, w * hgt / 4);
+  EXPECT_GT(red, 100);
+  fs::remove_all(dir);
+}
+
+// `--tolerance D` on an open surface: a grid of 10 × 10 cells of two triangles over [0, 5]² on
+// the plane z = 0.3x + 0.2y, its vertices moved by up to 1e-9 along z.
+std::string noisy_grid_off() {
+  const int n = 10;
+  std::ostringstream out;
+  out.precision(17);
+  out << "OFF\n" << (n + 1) * (n + 1) << " " << 2 * n * n << " 0\n";
+  unsigned state = 7;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      state = state * 1103515245u + 12345u;
+      const double r = static_cast<double>((state >> 8) % 2001) / 1000 - 1;
+      const double x = 0.5 * i, y = 0.5 * j;
+      out << x << " " << y << " " << 0.3 * x + 0.2 * y + 1e-9 * r << "\n";
+    }
+  const auto at = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      out << "3 " << at(i, j) << " " << at(i + 1, j) << " " << at(i + 1, j + 1) << "\n";
+      out << "3 " << at(i, j) << " " << at(i + 1, j + 1) << " " << at(i, j + 1) << "\n";
+    }
+  return out.str();
+}
+
+TEST(OpenSurfaceCli, ToleranceMergesNearlyCoplanarFacesOfAnOpenSurface) {
+  const fs::path dir = hedra::testing::temp_dir("open_tolerance_cli");
+  const std::string grid = hedra::testing::write(dir / "grid.off", noisy_grid_off());
+  const std::string json = (dir / "h.json").string();
+  // Drawn from above: exact, every edge between the noisy triangles is a crease; within
+  // D = 1e-6, one face whose 4 edges are the border (length 2 · 5 · (√1.09 + √1.04)).
+  auto r = run_hedra("hlr " + grid + " --json " + json);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_GT(nlohmann::json::parse(read(json))["visible"].size(), 200u);
+  r = run_hedra("hlr " + grid + " --tolerance 1e-6 --json " + json);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json h = nlohmann::json::parse(read(json));
+  EXPECT_EQ(h["visible"].size(), 4u);
+  double drawn = 0;
+  for (const auto& s : h["visible"]) drawn += length(s);
+  EXPECT_NEAR(drawn, 10 * (std::sqrt(1.09) + std::sqrt(1.04)), 1e-5);
+  // The same through a scene file: its "tolerance", and the command's.
+  const std::string light = R"(, "lights": [{"type": "directional", "direction": [0, 0, -1]}]})";
+  const std::string scene = hedra::testing::write(
+      dir / "s.json", R"({"version": 1, "tolerance": 1e-6, "bodies": [{"name": "g", "mesh": "grid.off"}])" + light);
+  const std::string exact = hedra::testing::write(
+      dir / "e.json", R"({"version": 1, "bodies": [{"name": "g", "mesh": "grid.off"}])" + light);
+  for (const std::string& command : {"shadows " + scene, "shadows --tolerance 1e-6 " + exact, "shadows " + exact}) {
+    r = run_hedra(command + " --json " + json);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json shadows = nlohmann::json::parse(read(json));
+    const size_t faces = shadows["lights"][0]["faces"].size();  // two sides per face
+    if (command == "shadows " + exact) {
+      EXPECT_GT(faces, 300u) << command;
+    } else {
+      EXPECT_EQ(faces, 2u) << command;
+    }
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
+#include "hedra/core/transform.h"
 #include "hedra/render/raster.h"
 #include "hedra/visibility/polygon_set.h"
 #include "hedra/visibility/roberts.h"
@@ -53,6 +54,90 @@ TEST(TwoSidedPolygon, RejectsNonConvexNonPlanarAndDegeneratePolygons) {
                InvalidInput);  // not planar
   EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1, 0}}),
                InvalidInput);  // collinear corner
+}
+
+// A rotation rounds the corners off their exact plane: the face stays a two-sided face
+// (planar within rounding, as a rotated body's faces).
+TEST(TwoSidedPolygon, SurvivesAGenericRotation) {
+  const Body square = Body::two_sided_polygon({{0, 0, 1}, {2, 0, 1}, {2, 2, 1}, {0, 2, 1}});
+  const Body turned = square.transformed(Transform::rotation(Vec3(0.3, -0.7, 0.65), 37.3, Vec3(1, 1, 0)));
+  EXPECT_TRUE(turned.two_sided());
+  EXPECT_NEAR(turned.face_area(0), 4, 1e-12);
+  // Not planar beyond rounding: still refused.
+  EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 1e-9}, {0, 1, 0}}, 1e-10), InvalidInput);
+  EXPECT_NO_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 1e-9}, {0, 1, 0}}, 1e-8));
+}
+
+// A flat grid of n × n cells of two triangles over [0, 5]² on the tilted plane
+// z = 0.3x + 0.2y, every vertex moved off it along z by up to `noise` (a fixed sequence).
+PolygonSoup noisy_grid(int n, double noise) {
+  PolygonSoup soup;
+  unsigned state = 12345;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      state = state * 1103515245u + 12345u;
+      const double r = static_cast<double>((state >> 8) % 2001) / 1000 - 1;  // [-1, 1]
+      const double x = 5.0 * i / n, y = 5.0 * j / n;
+      soup.vertices.push_back({x, y, 0.3 * x + 0.2 * y + noise * r});
+    }
+  const auto at = [&](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      soup.polygons.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      soup.polygons.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  return soup;
+}
+
+TEST(TwoSidedFaces, ToleranceMergesANoisyFlatGridIntoOneFace) {
+  const PolygonSoup grid = noisy_grid(10, 1e-9);
+  // Exact (D = 0), or D below the noise: the triangles are not coplanar and stay apart.
+  EXPECT_GT(two_sided_faces(grid).size(), 150u);
+  EXPECT_GT(two_sided_faces(grid, 1e-12).size(), 150u);
+  // D = 1e-6: one face, the grid's four corners moved by at most D.
+  const std::vector<Body> merged = two_sided_faces(grid, 1e-6);
+  ASSERT_EQ(merged.size(), 1u);
+  const Body& face = merged[0];
+  ASSERT_EQ(face.vertex_count(), 4);
+  for (const Vec3& p : face.vertices()) {
+    double nearest = 1e300;
+    for (int corner : {0, 10, 120, 110}) nearest = std::min(nearest, (p - grid.vertices[corner]).norm());
+    EXPECT_LE(nearest, 1e-6) << p.transpose();
+  }
+  // Certified: every input vertex within D of the face's plane (and inside it: the corners
+  // bound the grid), the area that of the plane's square within the noise.
+  const Plane& plane = face.plane(0);
+  for (const Vec3& p : grid.vertices) EXPECT_LE(std::abs(plane.value(p)), 1e-6);
+  EXPECT_NEAR(face.face_area(0), 25 * std::sqrt(1 + 0.09 + 0.04), 1e-6);
+  // A surface that is not flat keeps its crease: a roof of two noisy grids (the second one the
+  // first mirrored in x = 5, without noise).
+  PolygonSoup roof = noisy_grid(4, 1e-9);
+  const int base = static_cast<int>(roof.vertices.size());
+  for (int j = 0; j <= 4; ++j)
+    for (int i = 1; i <= 4; ++i) {
+      const double x = 5 + 5.0 * i / 4, y = 5.0 * j / 4;
+      roof.vertices.push_back({x, y, 0.3 * (10 - x) + 0.2 * y});
+    }
+  const auto at = [&](int i, int j) { return i == 0 ? j * 5 + 4 : base + j * 4 + (i - 1); };
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      roof.polygons.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      roof.polygons.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  // Its two sides, each one quadrilateral: the ridge's inner vertices (shared by the two
+  // regions, within D of the ridge) left out of both, so the two faces still meet edge to edge.
+  const std::vector<Body> sides = two_sided_faces(roof, 1e-6);
+  ASSERT_EQ(sides.size(), 2u);
+  double area = 0;
+  for (const Body& f : sides) {
+    EXPECT_EQ(f.vertex_count(), 4);
+    area += f.face_area(0);
+  }
+  int shared = 0;
+  for (const Vec3& p : sides[0].vertices())
+    for (const Vec3& q : sides[1].vertices()) shared += p == q;
+  EXPECT_EQ(shared, 2);
+  EXPECT_NEAR(area, 2 * 25 * std::sqrt(1 + 0.09 + 0.04), 1e-6);
 }
 
 TEST(TwoSidedFaces, KeepsConvexPolygonsMergesCoplanarTrianglesSplitsTheRest) {

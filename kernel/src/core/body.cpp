@@ -462,7 +462,11 @@ Body Body::transformed(const Transform& t) const {
   if (impl_->two_sided) {
     std::vector<Vec3> polygon;
     for (int v : faces[0].loops[0]) polygon.push_back(moved[static_cast<size_t>(v)]);
-    return two_sided_polygon(std::move(polygon));
+    // Rounded coordinates: planar within rounding, as a transformed body's faces.
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : polygon) box.extend(p);
+    const double tolerance = kRoundingPlanarity * body_scale(polygon, box);
+    return two_sided_polygon(std::move(polygon), tolerance);
   }
   return Body(std::move(moved), std::move(faces));
 }
@@ -475,7 +479,7 @@ void Body::set_convexity_memo(bool convex) const {
   impl_->convexity.store(convex ? 1 : 0, std::memory_order_relaxed);
 }
 
-Body Body::two_sided_polygon(std::vector<Vec3> polygon) {
+Body Body::two_sided_polygon(std::vector<Vec3> polygon, double planarity_tolerance) {
   const int n = static_cast<int>(polygon.size());
   if (n < 3) throw InvalidInput("a two-sided face needs at least 3 vertices, got " + str(n));
   for (int i = 0; i < n; ++i) {
@@ -500,9 +504,11 @@ Body Body::two_sided_polygon(std::vector<Vec3> polygon) {
   // A point well off the plane on the outward side (rounded: only its exact side matters).
   const Vec3 lift = a + outward.normalized() * (a.cwiseAbs().maxCoeff() + (b - a).norm() + 1);
   const Sign up = orient3d(a, b, c, lift);
+  const Vec3 unit_normal = outward.normalized();
   for (int i = 0; i < n; ++i) {
     const Vec3& p = polygon[static_cast<size_t>(i)];
-    if (orient3d(a, b, c, p) != Sign::Zero)
+    if (orient3d(a, b, c, p) != Sign::Zero &&
+        !(planarity_tolerance > 0 && std::abs(unit_normal.dot(p - a)) <= planarity_tolerance))
       throw InvalidInput("a two-sided face is not planar: vertex " + str(i) + " is off its plane");
     const Vec3& q = polygon[static_cast<size_t>((i + 1) % n)];
     const Vec3& r = polygon[static_cast<size_t>((i + 2) % n)];

@@ -60,72 +60,32 @@ bool planar_after_rounding(const std::vector<Vec3>& v, const std::vector<std::ve
 
 namespace {
 
-std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* plane_ids,
-                             const MergeOptions& options) {
-  // Step 1: drop vertices no polygon uses, then the combinatorial checks on the soup.
-  PolygonSoup soup;
-  {
-    std::vector<int> remap(input.vertices.size(), -1);
-    for (const auto& poly : input.polygons)
-      for (int v : poly)
-        if (v >= 0 && static_cast<size_t>(v) < remap.size()) remap[v] = 0;
-    for (size_t v = 0; v < remap.size(); ++v)
-      if (remap[v] == 0) {
-        remap[v] = static_cast<int>(soup.vertices.size());
-        soup.vertices.push_back(input.vertices[v]);
-      }
-    soup.polygons = input.polygons;
-    for (auto& poly : soup.polygons)
-      for (int& v : poly)
-        if (v >= 0 && static_cast<size_t>(v) < remap.size()) v = remap[v];
-  }
-  std::vector<Face> raw;
-  raw.reserve(soup.polygons.size());
-  for (const auto& poly : soup.polygons) raw.emplace_back(poly);
-  check_polygon_mesh(soup.vertices, raw);
+// Coplanar regions of a soup (steps 3 and 3b of merge_once), and with snapping the vertices
+// moved onto the regions' planes (moved is empty otherwise).
+struct CoplanarRegions {
+  std::vector<int> region;                 // per polygon
+  std::vector<int> seeds;                  // per region, its first polygon
+  std::vector<std::vector<int>> members;   // per region, its polygons in order
+  bool snapped = false;
+  std::vector<Vec3> moved;
+};
 
-  const auto& v = soup.vertices;
-  const auto& polys = soup.polygons;
+// `twin(a, b)`: the polygon with directed edge b → a, or −1 (a boundary edge of an open
+// surface). `normals` and `supports` per polygon, every polygon of non-zero area unless
+// `plane_ids` decide coplanarity.
+// Cost O(n log n) plus O(R²) normal comparisons for R regions when snapping.
+template <class Twin>
+CoplanarRegions grow_and_snap(const std::vector<Vec3>& v, const std::vector<std::vector<int>>& polys,
+                              const std::vector<Vec3>& normals,
+                              const std::vector<std::array<int, 3>>& supports, const Twin& twin,
+                              const std::vector<int>* plane_ids, const MergeOptions& options) {
   const int n = static_cast<int>(polys.size());
-
-  // Step 2: per-polygon normal and exact supporting triple.
-  std::vector<Vec3> normals(n);
-  std::vector<std::array<int, 3>> supports(n);
-  // Newell normals grow as the square of the coordinates: for a body of size 1e-100 their
-  // products and squares underflow to 0. One power of two for all (exact, same weights)
-  // brings them to the size of the squared unit.
-  double max_abs = 0;
-  for (const Vec3& p : v) max_abs = std::max(max_abs, p.cwiseAbs().maxCoeff());
-  int exponent = 0;
-  if (max_abs > 0 && std::isfinite(max_abs)) std::frexp(max_abs, &exponent);
-  const double normal_scale = std::ldexp(1.0, -2 * exponent);
-  for (int p = 0; p < n; ++p) {
-    const Vec3 oriented = oriented_normal(v, polys[p]);
-    normals[p] = oriented * normal_scale;
-    for (int axis = 0; axis < 3; ++axis)  // the scaling must not drop an exact sign
-      if (oriented[axis] != 0 && normals[p][axis] == 0)
-        normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
-    // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
-    // triangles, such as the corner faces of decomposition pieces written to files.
-    supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
-                                                  : support_triple(v, polys[p], normals[p]);
-    // With caller-given planes (exact pieces rounded to double), a triangle that rounding made
-    // flat is still a known part of its plane's region and vanishes in the merged face; only
-    // the faces built in the end must have area (Body checks them).
-    if (!plane_ids &&
-        (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]])))
-      throw InvalidInput("polygon " + std::to_string(p) + " has zero area");
-  }
-  std::unordered_map<std::uint64_t, int> owner;  // directed edge -> polygon
-  for (int p = 0; p < n; ++p)
-    for (size_t i = 0; i < polys[p].size(); ++i)
-      owner[key(polys[p][i], polys[p][(i + 1) % polys[p].size()])] = p;
-  auto twin = [&](int a, int b) { return owner.at(key(b, a)); };
-
+  CoplanarRegions out;
   // Step 3: grow coplanar regions from seeds, comparing against the seed's plane (so a
   // tolerance cannot drift along a chain of nearly coplanar polygons).
-  std::vector<int> region(n, -1);
-  std::vector<int> seeds;
+  std::vector<int>& region = out.region;
+  std::vector<int>& seeds = out.seeds;
+  region.assign(static_cast<size_t>(n), -1);
   for (int s = 0; s < n; ++s) {
     if (region[s] >= 0) continue;
     const int r = static_cast<int>(seeds.size());
@@ -150,7 +110,7 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
       const auto& poly = polys[queue[head]];
       for (size_t i = 0; i < poly.size(); ++i) {
         int t = twin(poly[i], poly[(i + 1) % poly.size()]);
-        if (region[t] < 0 && coplanar(t)) {
+        if (t >= 0 && region[t] < 0 && coplanar(t)) {
           region[t] = r;
           queue.push_back(t);
         }
@@ -158,7 +118,8 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
     }
   }
   const int regions = static_cast<int>(seeds.size());
-  std::vector<std::vector<int>> members(regions);
+  out.members.resize(static_cast<size_t>(regions));
+  std::vector<std::vector<int>>& members = out.members;
   for (int p = 0; p < n; ++p) members[region[p]].push_back(p);
 
   // Step 3b (snapping, a positive coplanar tolerance without a planarity tolerance): a region
@@ -168,7 +129,8 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   // independent planes it lies on all of them), but only when that moves it by at most the
   // tolerance: the certified bound. Vertices of exactly planar regions only stay put.
   const bool snap = !plane_ids && options.coplanar_tolerance > 0 && options.planarity_tolerance < 0;
-  std::vector<Vec3> moved;
+  out.snapped = snap;
+  std::vector<Vec3>& moved = out.moved;
   if (snap) {
     moved = v;
     std::vector<char> loose(regions, 0);
@@ -241,6 +203,78 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
       if (step.allFinite() && step.norm() <= options.coplanar_tolerance) moved[w] = v[w] + step;
     }
   }
+  return out;
+}
+
+std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* plane_ids,
+                             const MergeOptions& options) {
+  // Step 1: drop vertices no polygon uses, then the combinatorial checks on the soup.
+  PolygonSoup soup;
+  {
+    std::vector<int> remap(input.vertices.size(), -1);
+    for (const auto& poly : input.polygons)
+      for (int v : poly)
+        if (v >= 0 && static_cast<size_t>(v) < remap.size()) remap[v] = 0;
+    for (size_t v = 0; v < remap.size(); ++v)
+      if (remap[v] == 0) {
+        remap[v] = static_cast<int>(soup.vertices.size());
+        soup.vertices.push_back(input.vertices[v]);
+      }
+    soup.polygons = input.polygons;
+    for (auto& poly : soup.polygons)
+      for (int& v : poly)
+        if (v >= 0 && static_cast<size_t>(v) < remap.size()) v = remap[v];
+  }
+  std::vector<Face> raw;
+  raw.reserve(soup.polygons.size());
+  for (const auto& poly : soup.polygons) raw.emplace_back(poly);
+  check_polygon_mesh(soup.vertices, raw);
+
+  const auto& v = soup.vertices;
+  const auto& polys = soup.polygons;
+  const int n = static_cast<int>(polys.size());
+
+  // Step 2: per-polygon normal and exact supporting triple.
+  std::vector<Vec3> normals(n);
+  std::vector<std::array<int, 3>> supports(n);
+  // Newell normals grow as the square of the coordinates: for a body of size 1e-100 their
+  // products and squares underflow to 0. One power of two for all (exact, same weights)
+  // brings them to the size of the squared unit.
+  double max_abs = 0;
+  for (const Vec3& p : v) max_abs = std::max(max_abs, p.cwiseAbs().maxCoeff());
+  int exponent = 0;
+  if (max_abs > 0 && std::isfinite(max_abs)) std::frexp(max_abs, &exponent);
+  const double normal_scale = std::ldexp(1.0, -2 * exponent);
+  for (int p = 0; p < n; ++p) {
+    const Vec3 oriented = oriented_normal(v, polys[p]);
+    normals[p] = oriented * normal_scale;
+    for (int axis = 0; axis < 3; ++axis)  // the scaling must not drop an exact sign
+      if (oriented[axis] != 0 && normals[p][axis] == 0)
+        normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
+    // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
+    // triangles, such as the corner faces of decomposition pieces written to files.
+    supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
+                                                  : support_triple(v, polys[p], normals[p]);
+    // With caller-given planes (exact pieces rounded to double), a triangle that rounding made
+    // flat is still a known part of its plane's region and vanishes in the merged face; only
+    // the faces built in the end must have area (Body checks them).
+    if (!plane_ids &&
+        (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]])))
+      throw InvalidInput("polygon " + std::to_string(p) + " has zero area");
+  }
+  std::unordered_map<std::uint64_t, int> owner;  // directed edge -> polygon
+  for (int p = 0; p < n; ++p)
+    for (size_t i = 0; i < polys[p].size(); ++i)
+      owner[key(polys[p][i], polys[p][(i + 1) % polys[p].size()])] = p;
+  auto twin = [&](int a, int b) { return owner.at(key(b, a)); };
+
+  const CoplanarRegions grown = grow_and_snap(v, polys, normals, supports, twin, plane_ids, options);
+  const std::vector<int>& region = grown.region;
+  const std::vector<int>& seeds = grown.seeds;
+  const std::vector<std::vector<int>>& members = grown.members;
+  const int regions = static_cast<int>(seeds.size());
+  const bool snap = grown.snapped;
+  const std::vector<Vec3>& moved = grown.moved;
   const std::vector<Vec3>& mv = snap ? moved : v;
 
   // Step 4: each region's boundary loops become one face (outer loop first, then holes).
@@ -394,6 +428,49 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
 }
 
 }  // namespace
+
+SnappedSurface snap_surface(const PolygonSoup& soup, double tolerance) {
+  const auto& v = soup.vertices;
+  const auto& polys = soup.polygons;
+  const int n = static_cast<int>(polys.size());
+  // Normals and supports as in merge_once (one power of two against underflow).
+  double max_abs = 0;
+  for (const Vec3& p : v) max_abs = std::max(max_abs, p.cwiseAbs().maxCoeff());
+  int exponent = 0;
+  if (max_abs > 0 && std::isfinite(max_abs)) std::frexp(max_abs, &exponent);
+  const double normal_scale = std::ldexp(1.0, -2 * exponent);
+  std::vector<Vec3> normals(static_cast<size_t>(n));
+  std::vector<std::array<int, 3>> supports(static_cast<size_t>(n));
+  std::unordered_map<std::uint64_t, int> owner;  // directed edge -> polygon
+  for (int p = 0; p < n; ++p) {
+    for (int w : polys[p])
+      if (w < 0 || static_cast<size_t>(w) >= v.size())
+        throw InvalidInput("polygon " + std::to_string(p) + " refers to a vertex out of range");
+    const Vec3 oriented = oriented_normal(v, polys[p]);  // as in merge_once
+    normals[p] = oriented * normal_scale;
+    for (int axis = 0; axis < 3; ++axis)
+      if (oriented[axis] != 0 && normals[p][axis] == 0)
+        normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
+    supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
+                                                  : support_triple(v, polys[p], normals[p]);
+    if (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]]))
+      throw InvalidInput("polygon " + std::to_string(p) + " has zero area");
+    for (size_t i = 0; i < polys[p].size(); ++i)
+      if (!owner.emplace(key(polys[p][i], polys[p][(i + 1) % polys[p].size()]), p).second)
+        throw InvalidInput("polygon " + std::to_string(p) + " repeats a directed edge");
+  }
+  auto twin = [&](int a, int b) {
+    const auto it = owner.find(key(b, a));
+    return it == owner.end() ? -1 : it->second;
+  };
+  MergeOptions options;
+  options.coplanar_tolerance = tolerance;
+  CoplanarRegions grown = grow_and_snap(v, polys, normals, supports, twin, nullptr, options);
+  SnappedSurface out;
+  out.vertices = grown.snapped ? std::move(grown.moved) : v;
+  out.region = std::move(grown.region);
+  return out;
+}
 
 std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const MergeOptions& options) {
   return merge(soup, nullptr, options);

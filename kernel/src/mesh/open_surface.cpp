@@ -9,6 +9,8 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
+#include "hedra/core/predicates.h"
+#include "hedra/core/tolerance.h"
 #include "hedra/core/triangulate.h"
 
 namespace hedra {
@@ -18,16 +20,13 @@ using Loop = std::vector<int>;
 
 std::pair<int, int> key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
-std::vector<Vec3> points(const PolygonSoup& soup, const Loop& loop) {
-  std::vector<Vec3> out;
-  for (int v : loop) out.push_back(soup.vertices[static_cast<size_t>(v)]);
-  return out;
-}
-
-// The two-sided face of a loop, or none when it is not exactly planar and strictly convex.
-std::optional<Body> convex_face(const PolygonSoup& soup, const Loop& loop) {
+// The two-sided face of a loop, or none when it is not planar (exactly, or within
+// `planarity` when positive) and strictly convex.
+std::optional<Body> convex_face_of(const std::vector<Vec3>& vertices, const Loop& loop, double planarity) {
   try {
-    return Body::two_sided_polygon(points(soup, loop));
+    std::vector<Vec3> out;
+    for (int v : loop) out.push_back(vertices[static_cast<size_t>(v)]);
+    return Body::two_sided_polygon(std::move(out), planarity);
   } catch (const InvalidInput&) {
     return std::nullopt;
   }
@@ -68,7 +67,43 @@ SurfaceBoundary surface_boundary(const PolygonSoup& soup) {
   return out;
 }
 
-std::vector<Body> two_sided_faces(const PolygonSoup& soup) {
+bool is_open_surface(const PolygonSoup& soup) {
+  std::set<std::pair<int, int>> directed;
+  for (const auto& poly : soup.polygons)
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const int a = poly[i], b = poly[(i + 1) % poly.size()];
+      if (a < 0 || b < 0 || static_cast<size_t>(std::max(a, b)) >= soup.vertices.size()) return false;
+      if (!directed.emplace(a, b).second) return false;
+    }
+  return !directed.empty() && surface_boundary(soup).boundary_edges > 0;
+}
+
+SurfaceSummary summarize_surface(const PolygonSoup& soup) {
+  SurfaceSummary out;
+  out.boundary = surface_boundary(soup);
+  out.edges = out.boundary.edges;
+  out.faces = static_cast<int>(soup.polygons.size());
+  std::set<int> used;
+  for (const auto& poly : soup.polygons) {
+    used.insert(poly.begin(), poly.end());
+    Vec3 n = Vec3::Zero();  // Newell's area vector
+    for (size_t i = 0; i < poly.size(); ++i)
+      n += soup.vertices[static_cast<size_t>(poly[i])].cross(
+          soup.vertices[static_cast<size_t>(poly[(i + 1) % poly.size()])]);
+    out.area += n.norm() / 2;
+  }
+  out.vertices = static_cast<int>(used.size());
+  return out;
+}
+
+namespace {
+
+// The two-sided faces of polygons of `soup` (see two_sided_faces), planar exactly or, when
+// `planarity` is positive, within it.
+std::vector<Body> faces_of_loops(const PolygonSoup& soup, double planarity) {
+  const auto convex_face = [&](const PolygonSoup& s, const Loop& loop) {
+    return convex_face_of(s.vertices, loop, planarity);
+  };
   // Stage: convex loops, each polygon whole or as its triangles.
   std::vector<Loop> loops;
   for (size_t f = 0; f < soup.polygons.size(); ++f) {
@@ -94,8 +129,8 @@ std::vector<Body> two_sided_faces(const PolygonSoup& soup) {
     for (const auto& t : triangles)
       if (convex_face(soup, {t[0], t[1], t[2]})) loops.push_back({t[0], t[1], t[2]});
   }
-  // Stage: merge exactly coplanar neighbours while the union stays strictly convex (greedy,
-  // in soup order: deterministic).
+  // Stage: merge coplanar neighbours (exactly, or within `planarity`) while the union stays
+  // strictly convex (greedy, in soup order: deterministic).
   std::map<std::pair<int, int>, std::vector<int>> by_edge;
   for (size_t i = 0; i < loops.size(); ++i)
     for (size_t k = 0; k < loops[i].size(); ++k)
@@ -130,6 +165,197 @@ std::vector<Body> two_sided_faces(const PolygonSoup& soup) {
     if (alive[i]) out.push_back(*convex_face(soup, loops[i]));
   if (out.empty()) throw InvalidInput("the surface has no face of non-zero area");
   return out;
+}
+
+double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 d = b - a;
+  const double dd = d.squaredNorm();
+  const double t = dd > 0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
+  return (p - (a + t * d)).norm();
+}
+
+// `--tolerance D` on an open surface (see two_sided_faces). Throws InvalidInput where the
+// snapped surface gives no valid faces; the caller then takes the exact faces.
+std::vector<Body> snapped_faces(const PolygonSoup& soup, double tolerance) {
+  // Polygons without repeated consecutive points; those of fewer than 3 or of zero area are
+  // left out, as the exact faces leave them out.
+  PolygonSoup clean;
+  clean.vertices = soup.vertices;
+  const auto& v = soup.vertices;
+  for (const auto& poly : soup.polygons) {
+    Loop loop;
+    for (int w : poly)
+      if (loop.empty() || v[static_cast<size_t>(w)] != v[static_cast<size_t>(loop.back())]) loop.push_back(w);
+    while (loop.size() > 1 && v[static_cast<size_t>(loop.front())] == v[static_cast<size_t>(loop.back())])
+      loop.pop_back();
+    if (loop.size() < 3) continue;
+    const Vec3 normal = newell_normal(v, loop);
+    if (!(normal.norm() > 0)) continue;
+    const std::array<int, 3> t = support_triple(v, loop, normal);
+    if (t[2] < 0 || collinear(v[static_cast<size_t>(t[0])], v[static_cast<size_t>(t[1])], v[static_cast<size_t>(t[2])]))
+      continue;
+    clean.polygons.push_back(std::move(loop));
+  }
+  const SnappedSurface snapped = snap_surface(clean, tolerance);
+  const std::vector<Vec3>& mv = snapped.vertices;
+  const auto& polys = clean.polygons;
+  const int n = static_cast<int>(polys.size());
+  int regions = 0;
+  for (int r : snapped.region) regions = std::max(regions, r + 1);
+  std::vector<std::vector<int>> members(static_cast<size_t>(regions));
+  for (int p = 0; p < n; ++p) members[static_cast<size_t>(snapped.region[static_cast<size_t>(p)])].push_back(p);
+  // Per vertex: the regions using it (the first two; `many` for three or more) and whether
+  // it is on the surface's boundary; per directed edge, its polygon.
+  std::vector<int> first(v.size(), -1), second(v.size(), -1);
+  std::vector<char> many(v.size(), 0), on_boundary(v.size(), 0);
+  std::map<std::pair<int, int>, int> owner;
+  for (int p = 0; p < n; ++p) {
+    const auto& poly = polys[static_cast<size_t>(p)];
+    const int r = snapped.region[static_cast<size_t>(p)];
+    for (size_t i = 0; i < poly.size(); ++i) {
+      const auto w = static_cast<size_t>(poly[i]);
+      if (first[w] < 0) first[w] = r;
+      else if (first[w] != r && second[w] < 0) second[w] = r;
+      else if (first[w] != r && second[w] != r) many[w] = 1;
+      owner[{poly[i], poly[(i + 1) % poly.size()]}] = p;
+    }
+  }
+  for (const auto& [edge, p] : owner)
+    if (!owner.count({edge.second, edge.first}))
+      on_boundary[static_cast<size_t>(edge.first)] = on_boundary[static_cast<size_t>(edge.second)] = 1;
+  // Each region's boundary, when it is one simple loop (in the polygons' orientation).
+  std::vector<Loop> loop_of(static_cast<size_t>(regions));
+  for (int r = 0; r < regions; ++r) {
+    std::map<int, int> next;
+    std::vector<int> starts;
+    bool pinched = false;
+    for (int p : members[static_cast<size_t>(r)]) {
+      const auto& poly = polys[static_cast<size_t>(p)];
+      for (size_t i = 0; i < poly.size(); ++i) {
+        const int a = poly[i], b = poly[(i + 1) % poly.size()];
+        const auto twin = owner.find({b, a});
+        if (twin != owner.end() && snapped.region[static_cast<size_t>(twin->second)] == r) continue;
+        pinched = pinched || !next.emplace(a, b).second;
+        starts.push_back(a);
+      }
+    }
+    if (pinched || starts.empty()) continue;
+    Loop loop;
+    int a = starts[0];
+    do {
+      loop.push_back(a);
+      const auto it = next.find(a);
+      if (it == next.end()) break;
+      a = it->second;
+    } while (a != starts[0] && loop.size() <= next.size());
+    if (a == starts[0] && loop.size() == next.size() && loop.size() >= 3)  // one loop: no holes
+      loop_of[static_cast<size_t>(r)] = std::move(loop);
+  }
+  // Which vertices of region r's loop may be left out, by the run they belong to: `r` for one
+  // used by r only (on the surface's boundary), `other` for one on a crease shared with one
+  // other region whose boundary is one loop too (then both loops leave it out, the same way),
+  // −1 for one that stays.
+  const auto run_class = [&](int w, int r) {
+    const auto u = static_cast<size_t>(w);
+    if (many[u]) return -1;
+    if (second[u] < 0) return first[u] == r ? r : -1;
+    if (on_boundary[u]) return -1;
+    const int other = first[u] == r ? second[u] : first[u];
+    return loop_of[static_cast<size_t>(other)].empty() ? -1 : other;
+  };
+  // Greedy along seq = a, x1 … xk, b: x_t is left out when it and the x's left out since the
+  // last vertex kept lie within D (input positions) of the chord from that vertex to the next
+  // (snapped positions). Returns the x's kept.
+  const auto simplify = [&](const std::vector<int>& seq) {
+    std::vector<int> kept;
+    size_t anchor = 0;
+    for (size_t t = 1; t + 1 < seq.size(); ++t) {
+      const Vec3& from = mv[static_cast<size_t>(seq[anchor])];
+      const Vec3& to = mv[static_cast<size_t>(seq[t + 1])];
+      bool drop = true;
+      for (size_t j = anchor + 1; j <= t && drop; ++j)
+        drop = distance_to_segment(v[static_cast<size_t>(seq[j])], from, to) <= tolerance;
+      if (drop) continue;
+      kept.push_back(seq[t]);
+      anchor = t;
+    }
+    return kept;
+  };
+  PolygonSoup merged;
+  merged.vertices = mv;
+  for (int r = 0; r < regions; ++r) {
+    Loop loop = loop_of[static_cast<size_t>(r)];
+    if (loop.empty()) {  // not one loop: the region's polygons, snapped
+      for (int p : members[static_cast<size_t>(r)]) merged.polygons.push_back(polys[static_cast<size_t>(p)]);
+      continue;
+    }
+    // Start at a vertex that stays; with none (the region is a whole component, its loop on
+    // the surface's boundary), at the vertex farthest from the loop's centre.
+    const size_t m = loop.size();
+    size_t start = m;
+    for (size_t k = 0; k < m && start == m; ++k)
+      if (run_class(loop[k], r) < 0) start = k;
+    if (start == m) {
+      Vec3 centre = Vec3::Zero();
+      for (int w : loop) centre += mv[static_cast<size_t>(w)];
+      centre /= static_cast<double>(m);
+      double far = -1;
+      for (size_t k = 0; k < m; ++k)
+        if (const double d = (mv[static_cast<size_t>(loop[k])] - centre).norm(); d > far) far = d, start = k;
+    }
+    std::rotate(loop.begin(), loop.begin() + static_cast<long>(start), loop.end());
+    Loop kept{loop[0]};
+    for (size_t i = 0; i < m;) {
+      // The run after loop[i]: vertices of one class up to the next vertex that stays.
+      size_t j = i + 1;
+      const int cls = j < m ? run_class(loop[j], r) : -1;
+      while (j < m && run_class(loop[j], r) >= 0 && run_class(loop[j], r) == cls) ++j;
+      std::vector<int> seq(loop.begin() + static_cast<long>(i), loop.begin() + static_cast<long>(j));
+      seq.push_back(loop[j % m]);
+      std::vector<int> stay;
+      if (seq.size() > 2 && cls == r) {
+        stay = simplify(seq);
+      } else if (seq.size() > 2 && seq.front() != seq.back()) {
+        // A crease: simplified from its end of smaller number, so that the loop of the region
+        // on its other side, which runs it the other way, leaves out the same vertices.
+        const bool flip = seq.front() > seq.back();
+        if (flip) std::reverse(seq.begin(), seq.end());
+        stay = simplify(seq);
+        if (flip) std::reverse(stay.begin(), stay.end());
+      } else {
+        stay.assign(seq.begin() + 1, seq.end() - 1);
+      }
+      kept.insert(kept.end(), stay.begin(), stay.end());
+      if (j < m) kept.push_back(loop[j]);
+      i = j;
+    }
+    // Too few corners left (a sliver within D): the exact faces instead (the caller).
+    if (kept.size() < 3) throw InvalidInput("a merged region collapses");
+    merged.polygons.push_back(std::move(kept));
+  }
+  // Merged faces are planar within the rounding of the snapped coordinates, as the faces of a
+  // body read with --tolerance are (BodyOptions).
+  Eigen::AlignedBox3d box;
+  double largest = 0;
+  for (const Vec3& p : mv) {
+    box.extend(p);
+    largest = std::max(largest, p.cwiseAbs().maxCoeff());
+  }
+  return faces_of_loops(merged, kRoundingPlanarity * std::max(largest, box.diagonal().norm()));
+}
+
+}  // namespace
+
+std::vector<Body> two_sided_faces(const PolygonSoup& soup, double tolerance) {
+  if (tolerance > 0) {
+    try {
+      return snapped_faces(soup, tolerance);
+    } catch (const InvalidInput&) {
+      // As for closed meshes (MergeOptions): where snapping gives no valid faces, the surface
+      // is taken exactly.
+    }
+  }
+  return faces_of_loops(soup, 0);
 }
 
 }  // namespace hedra

@@ -129,7 +129,10 @@ class Body {
   /// interior). volume() is 0, area() twice the polygon's area, classify() never says Inside.
   /// 	hrow InvalidInput unless the polygon has ≥ 3 finite vertices, is exactly planar and
   ///   strictly convex (no three consecutive vertices collinear). Cost O(n).
-  static Body two_sided_polygon(std::vector<Vec3> polygon);
+  /// `planarity_tolerance` > 0 also accepts vertices off the exact supporting plane by at most
+  /// that distance (as BodyOptions: merged faces of a surface snapped within `--tolerance`);
+  /// exact decisions still use the supporting triple.
+  static Body two_sided_polygon(std::vector<Vec3> polygon, double planarity_tolerance = 0);
   /// True for two_sided_polygon() bodies.
   bool two_sided() const;
 

@@ -44,4 +44,17 @@ std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const MergeOptions& 
 std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const std::vector<int>& plane_ids,
                                    const MergeOptions& options = {});
 
+/// The nearly coplanar regions of a surface, open or closed, and its vertices snapped onto
+/// their planes as bodies_from_soup snaps with a positive coplanar tolerance (MergeOptions):
+/// neighbours (across an edge used both ways) within `tolerance` of a region's first plane
+/// join it; each region's vertices move to the nearest point on the fitted planes of their
+/// regions when that moves them by at most `tolerance` (certified), else stay.
+struct SnappedSurface {
+  std::vector<Vec3> vertices;  ///< one per input vertex, each within the tolerance of it
+  std::vector<int> region;     ///< per polygon, its region (0, 1, … in order of first polygon)
+};
+/// \throw InvalidInput for an index out of range, a zero-area polygon or a directed edge used
+///   twice. Cost O(n log n) for n corners, plus O(R²) normal comparisons for R regions.
+SnappedSurface snap_surface(const PolygonSoup& soup, double tolerance);
+
 }  // namespace hedra

@@ -39,6 +39,17 @@ struct SceneBody {
   SceneBody& with_surface(const SmoothSurface& s) { surface = s; return *this; }
 };
 
+/// An open surface of a scene file (a scan, a terrain: a "mesh" or "polyhedron" body that is
+/// not closed). Hidden lines, shadows and rendering take its faces, which are scene bodies
+/// named `<name>.f<i>` (Body::two_sided_polygon); solid commands refuse it with `not_solid`.
+struct SceneSurface {
+  std::string name;       ///< the body's name in the scene file
+  std::string not_solid;  ///< one-line message naming the file, the body and the first boundary edge
+  int vertices = 0, edges = 0, faces = 0, boundary_edges = 0;
+  int first_from = -1, first_to = -1;  ///< first boundary edge (vertex numbers of the input)
+  double area = 0;
+};
+
 struct ImageSettings {
   Vec3 background = Vec3(1, 1, 1);
 };
@@ -68,6 +79,8 @@ class Scene {
   Camera camera = Camera::course_default();
   std::vector<Light> lights;
   ImageSettings image;
+  /// Open surfaces read from a scene file, in file order (their faces are among bodies()).
+  std::vector<SceneSurface> surfaces;
 
  private:
   std::vector<SceneBody> bodies_;
