@@ -67,6 +67,55 @@ TEST(Decompose, SuiteExactConvexCoveringAndRotationInvariant) {
   }
 }
 
+// The exact model returned with the pieces (Decomposition::piece_planes, InputPlanes): every
+// input vertex lies on its faces' canonical planes, whose support triples are oriented as the
+// faces; every rounded piece has one plane per face, lies within rounding on the inner side of
+// each, with three or more corners on it — exactly (orient3d on the input support triple) for
+// the axis-aligned unrotated shapes, whose cut points are doubles.
+TEST(Decompose, PiecesCarryTheExactPlanesOfTheInput) {
+  for (const suite::Shape& shape : suite::shapes(false)) {
+    for (bool rotate : {false, true}) {
+      const Body body = rotate ? suite::rotated(shape.body) : shape.body;
+      const std::string name = shape.name + (rotate ? " (rotated)" : "");
+      const Decomposition d = decompose(body);
+      if (d.pieces.size() == 1) continue;  // convex input: the body itself, no model
+      ASSERT_EQ(d.piece_planes.size(), d.pieces.size()) << name;
+      const InputPlanes& m = d.planes;
+      ASSERT_EQ(m.face_planes.size(), static_cast<size_t>(body.face_count())) << name;
+      for (int f = 0; f < body.face_count(); ++f) {
+        ASSERT_FALSE(m.face_planes[static_cast<size_t>(f)].empty()) << name;
+        for (const auto& [c, sign] : m.face_planes[static_cast<size_t>(f)]) {
+          for (int v : body.faces()[static_cast<size_t>(f)].loops[0])
+            EXPECT_TRUE(m.on(c, v, body.vertices()[static_cast<size_t>(v)])) << name << " face " << f;
+          // The face's outward side is the plane's side `sign`: the body's vertices off the
+          // face's plane, where the face is a supporting plane, are not all on the outer side.
+          const auto& t = m.support[static_cast<size_t>(c)];
+          const Vec3 outward = sign * (t[1] - t[0]).cross(t[2] - t[0]);
+          EXPECT_GT(outward.dot(-body.inner_normal(f)), 0) << name << " face " << f;
+        }
+      }
+      for (size_t k = 0; k < d.pieces.size(); ++k) {
+        const Body& piece = d.pieces[k];
+        EXPECT_EQ(d.piece_planes[k].size(), static_cast<size_t>(piece.face_count())) << name << " piece " << k;
+        // The rounded piece's corners are cut points rounded once: within rounding of the
+        // exact planes (exactly on them where they are input vertices).
+        const double tol = 1e-12 * body.scale();
+        for (const auto& [c, sign] : d.piece_planes[k]) {
+          int on = 0, exact = 0;
+          for (const Vec3& p : piece.vertices()) {
+            const double value = sign * m.approx[static_cast<size_t>(c)].value(p);
+            EXPECT_LE(value, tol) << name << " piece " << k << " plane " << c;
+            on += std::abs(value) <= tol;
+            exact += m.side(c, p) == Sign::Zero;
+          }
+          EXPECT_GE(on, 3) << name << " piece " << k << " plane " << c;
+          if (!rotate && shape.name.find("star") == std::string::npos) EXPECT_GE(exact, 3) << name << " piece " << k;
+        }
+      }
+    }
+  }
+}
+
 TEST(Decompose, PieceCounts) {
   EXPECT_EQ(decompose(prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2)).pieces.size(), 2u);
   EXPECT_EQ(decompose(suite::comb(4)).pieces.size(), 6u);  // the spine and 5 teeth: optimal

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "hedra/core/body.h"
+#include "hedra/decompose/decompose.h"
 #include "hedra/scene/camera.h"
 #include "hedra/visibility/occlusion.h"
 #include "hedra/visibility/roberts.h"
@@ -41,6 +42,35 @@ class RayCastReference {
       scene.extend(b.bbox());
     }
     scale_ = scene.isEmpty() ? 1 : scene.sizes().norm();
+    build_grid();
+  }
+
+  /// Parts given by their planes (unit inner normals) and the points that span them (their
+  /// picture boxes, inflated by 1e-9 of the scene: the points may be the rounding of the
+  /// planes' corners): for instance the exact pieces of a decomposition (exact_parts).
+  RayCastReference(std::span<const std::pair<std::vector<Plane>, std::vector<Vec3>>> parts,
+                   const Camera& camera)
+      : view_(Viewpoint::of(camera)), projection_(camera) {
+    Eigen::AlignedBox3d scene;
+    scene.setEmpty();
+    for (const auto& [planes, points] : parts)
+      for (const Vec3& p : points) scene.extend(p);
+    scale_ = scene.isEmpty() ? 1 : scene.sizes().norm();
+    for (const auto& [planes, points] : parts) {
+      RefConvex c;
+      c.planes = planes;
+      c.picture_box.setEmpty();
+      for (const Vec3& p : points) c.picture_box.extend(projection_.project(p));
+      const double grow = 1e-9 * std::max({c.picture_box.min().cwiseAbs().maxCoeff(), c.picture_box.max().cwiseAbs().maxCoeff(), 1.0});
+      c.picture_box.min().array() -= grow;
+      c.picture_box.max().array() += grow;
+      parts_.push_back(std::move(c));
+    }
+    build_grid();
+  }
+
+ private:
+  void build_grid() {
     // A coarse grid over the picture for speed on large scenes.
     picture_.setEmpty();
     for (const RefConvex& c : parts_) picture_.extend(c.picture_box);
@@ -54,6 +84,7 @@ class RayCastReference {
     }
   }
 
+ public:
   /// Does the open segment (ray for a direction) from x towards the viewer pass through the
   /// open interior of a part, over more than 1e-12 of the scene's size?
   bool hidden(const Vec3& x) const {
@@ -160,6 +191,29 @@ class RayCastReference {
   int cells_ = 1;
   std::vector<std::vector<int>> buckets_;
 };
+
+/// The convex parts of a body as plane sets for RayCastReference: a convex body's own face
+/// planes; a non-convex body's exact pieces (Decomposition::piece_planes), each plane the
+/// input's own face plane (InputPlanes::approx), so that rounding the pieces to double (an ulp
+/// off the body's edges, or the convex-hull fallback's sliver faces) plays no part.
+inline std::vector<std::pair<std::vector<Plane>, std::vector<Vec3>>> exact_parts(const Body& body) {
+  std::vector<std::pair<std::vector<Plane>, std::vector<Vec3>>> out;
+  const Decomposition d = decompose(body);
+  for (size_t k = 0; k < d.pieces.size(); ++k) {
+    std::vector<Plane> planes;
+    if (d.piece_planes.empty()) {
+      for (int f = 0; f < d.pieces[k].face_count(); ++f) planes.push_back(d.pieces[k].plane(f).normalized());
+    } else {
+      // approx is outward for the plane's defining face; the piece's outward normal is sign times it.
+      for (const auto& [c, sign] : d.piece_planes[k]) {
+        const Plane& a = d.planes.approx[static_cast<size_t>(c)];
+        planes.push_back(sign > 0 ? a.flipped() : a);
+      }
+    }
+    out.emplace_back(std::move(planes), d.pieces[k].vertices());
+  }
+  return out;
+}
 
 /// The middles of the visible parts of edge (body, edge) in `result` and of the gaps between
 /// them, as parameters on the edge: hints for visible_length.

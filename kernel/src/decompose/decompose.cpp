@@ -617,14 +617,63 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
   // Rounded once, here; a piece thinner than rounding everywhere is left out and counted. The
   // floating-point variant keeps its plain rounding, so its broken pieces still show.
   for (const Piece& p : done) {
-    if (ctx.floating) out.pieces.push_back(body_of(p));
-    else if (std::optional<Body> b = rounded_piece(p)) out.pieces.push_back(std::move(*b));
-    else ++out.degenerate_pieces;
+    if (ctx.floating) {
+      out.pieces.push_back(body_of(p));
+    } else if (std::optional<Body> b = rounded_piece(p)) {
+      out.piece_planes.push_back(face_planes(p));
+      out.pieces.push_back(std::move(*b));
+    } else {
+      ++out.degenerate_pieces;
+    }
+  }
+  // The model the cuts were decided in, for exact incidence with the pieces' faces.
+  if (!ctx.floating) {
+    InputPlanes& m = out.planes;
+    m.support = ctx.support;
+    // Stored in the order whose orient3d agrees with the CGAL plane's side (checked on a point
+    // far off it, so the check is not close).
+    for (size_t c = 0; c < m.support.size(); ++c) {
+      auto& t = m.support[c];
+      const Vec3 n = (t[1] - t[0]).cross(t[2] - t[0]);
+      if (!(n.squaredNorm() > 0)) continue;  // split()'s plane by coefficients: never here
+      const Vec3 off = t[0] + n.normalized() * ((t[1] - t[0]).norm() + (t[2] - t[0]).norm());
+      const bool positive = ctx.planes[c].oriented_side(P3(off.x(), off.y(), off.z())) == CGAL::ON_POSITIVE_SIDE;
+      if (positive != (orient3d(t[0], t[1], t[2], off) == Sign::Positive)) std::swap(t[1], t[2]);
+    }
+    m.approx = ctx.approx;
+    m.guard = ctx.guard;
+    for (const Point& pt : whole.pts) m.vertex_planes.push_back(pt.on);
+    m.face_planes.resize(static_cast<size_t>(body.face_count()));
+    const auto& triangles = body.triangles();
+    for (size_t t = 0; t < triangles.size(); ++t) {
+      auto& fp = m.face_planes[static_cast<size_t>(triangles[t].face)];
+      const std::pair<int, int> c(whole.tris[t].plane, whole.tris[t].sign);
+      if (!std::binary_search(fp.begin(), fp.end(), c)) fp.insert(std::upper_bound(fp.begin(), fp.end(), c), c);
+    }
   }
   return out;
 }
 
 }  // namespace
+
+bool InputPlanes::on(int c, int v, const Vec3& p) const {
+  const std::vector<int>& by_construction = vertex_planes[static_cast<size_t>(v)];
+  if (std::binary_search(by_construction.begin(), by_construction.end(), c)) return true;
+  const std::array<Vec3, 3>& s = support[static_cast<size_t>(c)];
+  if (orient3d(s[0], s[1], s[2], p) == Sign::Zero) return true;
+  // decompose's side(): an input vertex within the guard of a plane is on it.
+  return guard > 0 && std::abs(approx[static_cast<size_t>(c)].value(p)) <= guard;
+}
+
+Sign InputPlanes::side(int c, const Vec3& p) const {
+  const std::array<Vec3, 3>& s = support[static_cast<size_t>(c)];
+  return orient3d(s[0], s[1], s[2], p);
+}
+
+Sign InputPlanes::side_along(int c, const Vec3& d) const {
+  const std::array<Vec3, 3>& s = support[static_cast<size_t>(c)];
+  return orient_direction(s[0], s[1], s[2], d);
+}
 
 Decomposition decompose(const Body& body, const DecomposeOptions& options) {
   // First with the rounding guard: faces coplanar within rounding (a rotated body) share one

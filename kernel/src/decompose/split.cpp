@@ -134,6 +134,7 @@ Piece exact_piece_of(const Body& body, Context& ctx) {
       group = static_cast<int>(ctx.planes.size());
       ctx.planes.emplace_back(a, b, c);
       ctx.approx.push_back(Plane::through(v[t.v[0]], n.normalized()));
+      ctx.support.push_back({v[t.v[0]], v[t.v[1]], v[t.v[2]]});
     }
     for (int w : t.v) add_on(piece.pts[static_cast<size_t>(w)], group);
     piece.tris.push_back({t.v, group, sign});
@@ -197,6 +198,7 @@ Piece piece_of(const Body& body, Context& ctx) {
                               P3(v[s[1]].x(), v[s[1]].y(), v[s[1]].z()),
                               P3(v[s[2]].x(), v[s[2]].y(), v[s[2]].z()));
       ctx.approx.push_back(outward);
+      ctx.support.push_back({v[s[0]], v[s[1]], v[s[2]]});
       creator.emplace(group[f], f);
     }
   }
@@ -807,6 +809,7 @@ SplitResult split(const Body& body, const Plane& plane) {
   const Vec4& k = plane.coefficients;
   ctx.planes.emplace_back(k[0], k[1], k[2], k[3]);
   ctx.approx.push_back(plane.normalized());
+  ctx.support.push_back({Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   const int id = static_cast<int>(ctx.planes.size()) - 1;
   SplitResult result;
   for (Piece& part : components(piece.pts, piece.tris)) {

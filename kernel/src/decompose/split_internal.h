@@ -22,6 +22,9 @@ using PL = EK::Plane_3;
 struct Context {
   std::vector<PL> planes;
   std::vector<Plane> approx;  // unit-normal double planes, same orientation (for the guard)
+  // The three input vertices each plane was built through (zero for a plane given by
+  // coefficients: split()'s cutting plane); InputPlanes::support.
+  std::vector<std::array<Vec3, 3>> support;
   double guard = 0;           // rounding guard for input vertices (see side())
   // Exact planes only (the fallback of decompose()): every canonical plane is the exact plane
   // of input triangles, shared only by triangles exactly on it; no guard, so every side is

@@ -207,6 +207,7 @@ void Roberts::prepare_bodies() {
   // from the exact decomposition. Bodies in parallel, results in body order.
   struct BodyPieces {
     std::vector<Body> pieces;
+    std::vector<std::vector<std::pair<int, int>>> planes;  // Decomposition::piece_planes
     std::vector<HlrFacet> facets;
     std::string error;
   };
@@ -237,7 +238,10 @@ void Roberts::prepare_bodies() {
             meter_.add(0);  // reports on the caller's thread, throws once cancelled
             return true;
           };
-        per_body[b].pieces = decompose(body, decompose_options).pieces;
+        Decomposition d = decompose(body, decompose_options);
+        per_body[b].pieces = std::move(d.pieces);
+        per_body[b].planes = std::move(d.piece_planes);
+        bd.input_planes = std::move(d.planes);
       } catch (const InvalidInput& e) {
         per_body[b].error = e.what();
         continue;
@@ -252,7 +256,18 @@ void Roberts::prepare_bodies() {
   }
   pieces_.reserve(count);
   for (size_t b = 0; b < n; ++b) {
-    for (Body& p : per_body[b].pieces) pieces_.emplace_back(static_cast<int>(b), std::move(p));
+    for (size_t k = 0; k < per_body[b].pieces.size(); ++k) {
+      pieces_.emplace_back(static_cast<int>(b), std::move(per_body[b].pieces[k]));
+      const InputPlanes& model = data_[b].input_planes;
+      if (k >= per_body[b].planes.size() || model.empty()) continue;
+      // The exact piece's front faces: the viewpoint strictly on the outer side of the plane.
+      HlrPiece& piece = pieces_.back();
+      piece.exact = true;
+      for (const auto& [c, sign] : per_body[b].planes[k]) {
+        const Sign s = view_.at_infinity ? model.side_along(c, -view_.direction) : model.side(c, view_.point);
+        if (static_cast<int>(s) * sign > 0) piece.front_planes.push_back(c);
+      }
+    }
     for (HlrFacet& f : per_body[b].facets) facets_.push_back(std::move(f));
   }
   // Occlusion volumes and picture boxes of the pieces, in parallel.
@@ -267,7 +282,6 @@ void Roberts::prepare_bodies() {
         piece_facing.clear();
         for (int f = 0; f < p.piece.face_count(); ++f) piece_facing.push_back(facing(p.piece, f, view_));
         p.volume = occlusion_volume(p.piece, piece_facing, view_);
-        p.front_on_face = faces_on_body(p, bodies_[static_cast<size_t>(p.body)]);
       }
       if (brute)
         for (int f = 0; f < p.piece.face_count(); ++f) p.faces.push_back(exact_face_plane(p.piece, f));
@@ -322,32 +336,40 @@ std::vector<HlrFacet> Roberts::facets_of(int body, const std::vector<Body>& piec
   return out;
 }
 
-std::vector<int> Roberts::faces_on_body(const HlrPiece& p, const Body& body) {
+bool Roberts::edge_incident(const HlrPiece& p, int v0, int v1, int f1, int f2) const {
+  const Body& body = bodies_[static_cast<size_t>(p.body)];
+  const InputPlanes& m = data_[static_cast<size_t>(p.body)].input_planes;
+  const Vec3 &s1 = body.vertices()[static_cast<size_t>(v0)], &s2 = body.vertices()[static_cast<size_t>(v1)];
+  if (m.empty()) return rounded_incident(p, f1, f2, s1, s2);
+  return incident(p, [&](int c) { return m.on(c, v0, s1) && m.on(c, v1, s2); }, f1, f2, s1, s2);
+}
+
+bool Roberts::face_incident(const HlrPiece& p, int f, const Vec3& s1, const Vec3& s2) const {
+  const InputPlanes& m = data_[static_cast<size_t>(p.body)].input_planes;
+  if (m.empty()) return rounded_incident(p, f, f, s1, s2);
+  const std::vector<std::pair<int, int>>& planes = m.face_planes[static_cast<size_t>(f)];
+  return incident(p, [&](int c) {
+    return std::any_of(planes.begin(), planes.end(), [c](const std::pair<int, int>& q) { return q.first == c; });
+  }, f, f, s1, s2);
+}
+
+bool Roberts::rounded_incident(const HlrPiece& p, int f1, int f2, const Vec3& s1, const Vec3& s2) const {
+  const Body& body = bodies_[static_cast<size_t>(p.body)];
   const double tol = 8 * kRoundingPlanarity * body.scale();
-  std::vector<int> out;
   for (int g : p.volume.front_faces) {
-    int found = -1;
     const Vec3 n = p.piece.plane(g).normal();
-    for (int f = 0; f < body.face_count() && found < 0; ++f) {
+    for (int f : {f1, f2}) {
       const Plane& plane = body.plane(f);
       if (plane.normal().dot(n) <= 0.5) continue;
       bool on = true;
       for (int v : p.piece.faces()[static_cast<size_t>(g)].loops[0])
         on = on && std::abs(plane.value(p.piece.vertices()[static_cast<size_t>(v)])) <= tol;
-      if (on) found = f;
+      if (on) return true;
     }
-    out.push_back(found);
   }
-  return out;
-}
-
-bool Roberts::incident(const HlrPiece& p, int f1, int f2, const Vec3& s1, const Vec3& s2) const {
-  for (size_t i = 0; i < p.front_on_face.size(); ++i)
-    if (p.front_on_face[i] >= 0 && (p.front_on_face[i] == f1 || p.front_on_face[i] == f2)) return true;
   const Vec3 d = s2 - s1;
   const double len = d.norm();
   if (len == 0) return false;
-  const double tol = 8 * kRoundingPlanarity * bodies_[static_cast<size_t>(p.body)].scale();
   const auto& v = p.piece.vertices();
   for (const auto& [a, b] : p.volume.silhouette)
     if ((v[static_cast<size_t>(a)] - s1).cross(d).norm() <= tol * len &&
@@ -554,7 +576,7 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     // own body that it lies on (see incident()).
     const auto keep = [&](const HlrPiece& o) {
       if (o.body == skip) return false;
-      return o.body != b || !incident(o, edge.left_face, edge.right_face, p1, p2);
+      return o.body != b || !edge_incident(o, edge.v0, edge.v1, edge.left_face, edge.right_face);
     };
     visible_parts(p1, p2, keep, scratch, out);
     const std::vector<TInterval>& visible = scratch.result;

@@ -144,8 +144,8 @@ void Roberts::junctions() {
       fill_candidates(ids, [&](const HlrPiece& o) {
         // A convex body's own volume decides exactly (the junction lies exactly on its
         // face's support plane); a piece of a non-convex one only if not incident.
-        if (o.body == i) return data_[static_cast<size_t>(i)].convex || !incident(o, fa, fa, a, b);
-        if (o.body == j) return data_[static_cast<size_t>(j)].convex || !incident(o, fb, fb, a, b);
+        if (o.body == i) return data_[static_cast<size_t>(i)].convex || !face_incident(o, fa, a, b);
+        if (o.body == j) return data_[static_cast<size_t>(j)].convex || !face_incident(o, fb, a, b);
         return true;
       }, out);
     };

@@ -15,6 +15,7 @@
 
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/core/progress.h"
+#include "hedra/decompose/decompose.h"
 #include "hedra/visibility/outline.h"
 #include "hedra/visibility/roberts.h"
 #include "visibility/roberts_exact.h"
@@ -102,8 +103,11 @@ struct HlrPiece {
   Body piece;
   OcclusionVolume volume;
   std::vector<ExactPlane> faces;  // for the brute-force path
-  // Pieces of a non-convex body: for each front face, the body's face it lies on (−1: a cut).
-  std::vector<int> front_on_face;
+  // Pieces of a non-convex body: the canonical planes (Decomposition::piece_planes) of the
+  // exact piece's faces turned to the viewpoint, decided exactly on their support triples;
+  // `exact` false when the decomposition gave none (then the rounded tests decide).
+  std::vector<int> front_planes;
+  bool exact = false;
   detail::PieceOccluder occluder;
   Eigen::AlignedBox2d box;
   double near = 0;  // least depth, minus the margin
@@ -122,6 +126,7 @@ struct HlrBody {
   std::vector<Facing> facing;
   std::deque<ExactPlane> planes;   // exact face planes (junctions), built on demand (stable)
   std::vector<int> plane_slot;     // per face: its index in planes, −1 not built yet
+  InputPlanes input_planes;        // a non-convex body: its decomposition's exact planes
 };
 
 class Roberts {
@@ -149,16 +154,32 @@ class Roberts {
   // faces in one plane C, on opposite sides, C containing the viewpoint.
   std::vector<HlrFacet> facets_of(int body, const std::vector<Body>& pieces) const;
 
-  // Which face of `body` each front face of piece p lies on, within the rounding that
-  // decomposition and rotated coordinates leave (kRoundingPlanarity, as Body and decompose use).
-  static std::vector<int> faces_on_body(const HlrPiece& p, const Body& body);
-
-  // A segment of a non-convex body, lying on the body's faces f1 and f2, and a piece of the same
-  // body: does the segment lie on a bounding plane of the piece's occlusion volume (a front face
-  // on f1 or f2, or a silhouette edge on the segment's line)? Then the piece hides none of it.
-  // Exact for exact coordinates; for rounded ones (a rotated body, whose decomposition's planes
-  // and own vertices disagree by ulps) this is the incidence the geometry means.
-  bool incident(const HlrPiece& p, int f1, int f2, const Vec3& s1, const Vec3& s2) const;
+  // A segment of a non-convex body and a piece of the same body: does the segment lie on the
+  // plane of a front face of the exact piece? Then it lies on the boundary of the exact piece's
+  // open occlusion volume (a segment on the piece's silhouette lies on its front face too), and
+  // the piece hides none of it: the rounded piece, which can be an ulp off, is not asked.
+  // Decided in the decomposition's exact model: `on_plane(c)` says whether the segment lies on
+  // canonical plane c (an edge: both end vertices on c, InputPlanes::on; a junction segment on
+  // face f: c is a plane of f). Without the model (a decomposition that gave none), the rounded
+  // test on faces f1 and f2 (rounded_incident). Cost O(front faces).
+  template <class OnPlane>
+  bool incident(const HlrPiece& p, OnPlane&& on_plane, int f1, int f2, const Vec3& s1,
+                const Vec3& s2) const {
+    if (!p.exact) return rounded_incident(p, f1, f2, s1, s2);
+    // No front face: the exact piece hides nothing from this viewpoint.
+    if (p.front_planes.empty()) return true;
+    for (int c : p.front_planes)
+      if (on_plane(c)) return true;
+    return false;
+  }
+  // An edge (v0, v1) of body p.body, on its faces f1 and f2, against a piece of that body.
+  bool edge_incident(const HlrPiece& p, int v0, int v1, int f1, int f2) const;
+  // A segment s1s2 lying on face f of body p.body (a junction line) against a piece of it.
+  bool face_incident(const HlrPiece& p, int f, const Vec3& s1, const Vec3& s2) const;
+  // The fallback within rounding for pieces with faces rounding made: a front face of p within
+  // 8·kRoundingPlanarity of the body's face f1 or f2, or a silhouette edge of p on the
+  // segment's line within it.
+  bool rounded_incident(const HlrPiece& p, int f1, int f2, const Vec3& s1, const Vec3& s2) const;
 
   void build_index();
 

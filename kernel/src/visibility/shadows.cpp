@@ -97,6 +97,7 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   // Convex pieces (decomposing only the non-convex bodies) and face data, in parallel.
   std::vector<std::vector<Body>> pieces(m.bodies.size());
   std::vector<std::vector<std::vector<ExactPlane>>> piece_planes(m.bodies.size());
+  std::vector<std::vector<std::vector<std::pair<int, int>>>> exact_planes(m.bodies.size());
   parallel_for(m.bodies.size(), 0, [&](size_t b) {
     ShadowBody& bd = m.bodies[b];
     bd.faces.reserve(static_cast<size_t>(bd.body.face_count()));
@@ -110,7 +111,10 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
       piece_planes[b].push_back(std::move(planes));
     } else {
       try {
-        pieces[b] = decompose(bd.body).pieces;
+        Decomposition d = decompose(bd.body);
+        pieces[b] = std::move(d.pieces);
+        exact_planes[b] = std::move(d.piece_planes);
+        bd.input_planes = std::move(d.planes);
       } catch (const InvalidInput& e) {
         throw InvalidInput("body '" + bd.name + "': " + e.what());
       }
@@ -128,6 +132,7 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     for (size_t k = 0; k < pieces[b].size(); ++k) {
       ShadowPiece pd(std::move(pieces[b][k]));
       pd.planes = std::move(piece_planes[b][k]);
+      if (k < exact_planes[b].size()) pd.exact_planes = std::move(exact_planes[b][k]);
       pd.body = static_cast<int>(b);
       pd.box = pd.shape.bbox();
       pd.centre = pd.box.center();
@@ -139,10 +144,22 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     if (!bd.convex) {
       bd.own_adjacent.resize(bd.faces.size());
       const double scale = bd.body.scale();
+      const InputPlanes& model = bd.input_planes;
       for (size_t f = 0; f < bd.faces.size(); ++f)
-        for (int p : bd.pieces)
-          if (piece_on_face_plane(m.pieces[static_cast<size_t>(p)].shape, bd.faces[f], scale))
+        for (int p : bd.pieces) {
+          const ShadowPiece& pd = m.pieces[static_cast<size_t>(p)];
+          // Exact: the exact piece has a face on one of the face's canonical planes, on the
+          // same side (the piece lies on the face's inner side).
+          bool on = false;
+          if (!model.empty() && !pd.exact_planes.empty()) {
+            for (const auto& c : model.face_planes[f])
+              on = on || std::binary_search(pd.exact_planes.begin(), pd.exact_planes.end(), c);
+          } else {
+            on = piece_on_face_plane(pd.shape, bd.faces[f], scale);
+          }
+          if (on)
             bd.own_adjacent[f].push_back(p);
+        }
     }
     for (int f = 0; f < bd.body.face_count(); ++f) m.faces.emplace_back(static_cast<int>(b), f);
   }

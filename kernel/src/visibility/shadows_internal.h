@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <string>
 #include <utility>
+#include <span>
 #include <vector>
 
+#include "hedra/decompose/decompose.h"
 #include "hedra/visibility/polygon_union.h"
 #include "hedra/visibility/shadows.h"
 
@@ -101,6 +103,8 @@ struct ShadowPiece {
   int body = 0;  // index into Impl::bodies
   Body shape;
   std::vector<ExactPlane> planes;  // face planes (face_plane)
+  // The exact piece's faces (Decomposition::piece_planes); empty: none given.
+  std::vector<std::pair<int, int>> exact_planes;
   Eigen::AlignedBox3d box;
   Vec3 centre = Vec3::Zero();
   double radius = 0;
@@ -119,6 +123,7 @@ struct ShadowBody {
   /// a viewpoint turned to it; its rounded coordinates (a rotated body) may put its face plane
   /// a few ulps off, which must not turn the face into "shadow".
   std::vector<std::vector<int>> own_adjacent;
+  InputPlanes input_planes;  // non-convex body: its decomposition's exact planes
   bool skips(int face, int piece) const {
     if (convex) return true;  // a convex body hides nothing of its own faces
     const auto& v = own_adjacent[static_cast<size_t>(face)];
@@ -127,7 +132,10 @@ struct ShadowBody {
 };
 
 /// Does a face of `piece` lie on the plane of face `fd` of its body, up to the rounding of the
-/// decomposition's coordinates (kRoundingPlanarity × scale, same orientation)?
+/// decomposition's coordinates (kRoundingPlanarity × scale, same orientation)? The fallback
+/// where the decomposition gave no exact planes; otherwise the exact piece has a face on one
+/// of the face's canonical planes with the same sign (Decomposition::piece_planes,
+/// InputPlanes::face_planes), which shadows.cpp decides. Cost O(faces).
 bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale);
 
 // For one viewpoint: which pieces can hide part of a face. Parallel view: a uniform grid over

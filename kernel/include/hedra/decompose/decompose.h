@@ -1,9 +1,11 @@
 // Exact convex decomposition by plane splitting (docs/algorithms.md §5.3).
 #pragma once
 
+#include <array>
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "hedra/core/body.h"
@@ -27,8 +29,46 @@ struct DecomposeOptions {
   bool merge = false;
 };
 
+/// The exact planes the decomposition cut and bounded its pieces with, for consumers that must
+/// decide incidence with a piece's faces exactly although the pieces are rounded (hidden lines,
+/// shadows: an edge or face of the input lying on a piece's face; docs/design.md, "Exact
+/// inside, rounded only at the edge"). Every face of an exact piece lies on one canonical
+/// plane: the plane of an input face (or, in the exact-planes run, of an input triangle)
+/// through three input vertices; input faces coplanar within rounding share one. Value type.
+struct InputPlanes {
+  /// Per canonical plane: three input vertices it passes through, ordered so that
+  /// orient3d(s[0], s[1], s[2], p) is Positive for p strictly on its positive side (outside the
+  /// input faces that have sign +1 on it).
+  std::vector<std::array<Vec3, 3>> support;
+  /// Per canonical plane: unit-normal double plane (same orientation), and the rounding guard
+  /// (0 in the exact-planes run): the model's rule for input vertices (see on()).
+  std::vector<Plane> approx;
+  double guard = 0;
+  /// Per input vertex: the canonical planes it lies on by construction (its faces'), sorted.
+  std::vector<std::vector<int>> vertex_planes;
+  /// Per input face: (canonical plane, sign) of its triangles, sorted (one pair in the guarded
+  /// run); sign +1 when the face's outward normal is the plane's positive side.
+  std::vector<std::vector<std::pair<int, int>>> face_planes;
+  /// Whether input vertex v (coordinates p) lies on canonical plane c in the decomposition's
+  /// model of the input, the rule every cut was decided with: by construction, or exactly
+  /// (orient3d on the support triple), or within the rounding guard of the plane (input
+  /// vertices only: a rotated body's coplanar faces). Cost O(log k) + one exact predicate.
+  bool on(int c, int v, const Vec3& p) const;
+  /// Exact side of point p (orient3d on the support triple): Positive on the positive side.
+  Sign side(int c, const Vec3& p) const;
+  /// Exact side moving along direction d goes to (orient_direction on the support triple).
+  Sign side_along(int c, const Vec3& d) const;
+  bool empty() const { return support.empty(); }
+};
+
 struct Decomposition {
   std::vector<Body> pieces;  // convex, interior-disjoint, covering the input; canonical order
+  /// Per piece: (canonical plane, sign) of every face of the exact piece, sorted; sign +1 when
+  /// the piece lies on the plane's negative side. Exact whatever rounding did to `pieces`
+  /// (the convex-hull fallback included). Empty for a convex input (its one piece is the body
+  /// itself) and for the floating method.
+  std::vector<std::vector<std::pair<int, int>>> piece_planes;
+  InputPlanes planes;
   int cuts = 0;              // plane cuts made
   int merges = 0;            // pieces joined by the merge pass (DecomposeOptions::merge)
   bool verified = false;     // exact checks passed (only with DecomposeOptions::verify)
