@@ -3,10 +3,14 @@
 // Body::classify (exact ray parity) at sample points.
 #include "hedra/clip/polyhedron_clipper.h"
 
+#include <CGAL/Side_of_triangle_mesh.h>
+#include <CGAL/Simple_cartesian.h>
+#include <CGAL/Surface_mesh.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -190,16 +194,85 @@ void expect_matches_classify(const Body& body, const std::vector<ClipPart>& part
   }
 }
 
+// The independent exact oracle: the body's triangles as a CGAL surface mesh with exact rational
+// coordinates, and CGAL's point-in-mesh test (ray shooting, exact in this kernel) at exact
+// rational points of the segment.
+using EK = CGAL::Simple_cartesian<testing::Rational>;
+using ExactMesh = CGAL::Surface_mesh<EK::Point_3>;
+
+class ExactSolid {
+ public:
+  explicit ExactSolid(const Body& body) {
+    std::vector<ExactMesh::Vertex_index> index;
+    for (const Vec3& p : body.vertices()) index.push_back(mesh_.add_vertex(point(p)));
+    for (const Triangle& t : body.triangles())
+      mesh_.add_face(index[static_cast<size_t>(t.v[0])], index[static_cast<size_t>(t.v[1])],
+                     index[static_cast<size_t>(t.v[2])]);
+    side_ = std::make_unique<CGAL::Side_of_triangle_mesh<ExactMesh, EK>>(mesh_);
+  }
+  static EK::Point_3 point(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
+  CGAL::Bounded_side at(const Vec3& p1, const Vec3& p2, const testing::Rational& t) const {
+    const EK::Point_3 a = point(p1), b = point(p2);
+    return (*side_)(a + (b - a) * t);
+  }
+
+ private:
+  ExactMesh mesh_;
+  std::unique_ptr<CGAL::Side_of_triangle_mesh<ExactMesh, EK>> side_;
+};
+
+// The exact parameter of a part's end.
+testing::Rational exact_t(const PolyhedronClipper& direct, const ClipEnd& end, const Vec3& p1,
+                          const Vec3& p2) {
+  if (end.plane < 0) return end.t;
+  const ExactPlane f = direct.plane(end.plane);
+  const testing::Rational w = testing::exact_value(f, p1), e = testing::exact_value(f, p2);
+  return w / (w - e);
+}
+
+// The direct parts against the exact oracle: ends in order, every end and every part's middle
+// in the closed body, a single point on its boundary, every gap's middle outside. Returns
+// whether all hold.
+bool matches_exact_solid(const PolyhedronClipper& direct, const ExactSolid& solid,
+                         const std::vector<ClipPart>& parts, const Vec3& p1, const Vec3& p2) {
+  using testing::Rational;
+  if (p1 == p2) return parts.empty() == (solid.at(p1, p2, 0) == CGAL::ON_UNBOUNDED_SIDE);
+  const auto outside = [&](const Rational& t) {
+    return solid.at(p1, p2, t) == CGAL::ON_UNBOUNDED_SIDE;
+  };
+  Rational previous = 0;  // the end of the last part
+  bool first = true;
+  for (const ClipPart& part : parts) {
+    const Rational a = exact_t(direct, part.start, p1, p2), b = exact_t(direct, part.end, p1, p2);
+    if (b < a || part.point != (a == b)) return false;
+    if (first ? a > 0 && (!outside(0) || !outside(a / 2))
+              : !(previous < a) || !outside((previous + a) / 2))
+      return false;  // the gap before the part
+    for (const Rational& t : {a, b, (a + b) / 2})
+      if (outside(t)) return false;
+    if (part.point && a > 0 && a < 1 && solid.at(p1, p2, a) != CGAL::ON_BOUNDARY) return false;
+    previous = b;
+    first = false;
+  }
+  if (first) return outside(0) && outside(Rational(1) / 2) && outside(1);
+  return previous == 1 || (outside((previous + 1) / 2) && outside(1));
+}
+
 Differences run_differential(const Body& body, int count, std::uint64_t seed) {
   EXPECT_FALSE(is_convex(body));
   const PolyhedronClipper direct(body);
   const std::vector<ConvexClipper> pieces = pieces_of(body);
+  const ExactSolid solid(body);
   std::mt19937_64 rng(seed);
   Differences d;
   for (const auto& [p1, p2] : segments_for(body, count, rng)) {
+    const std::vector<ClipPart> parts = clip_segment(direct, p1, p2);
+    EXPECT_TRUE(matches_exact_solid(direct, solid, parts, p1, p2))
+        << p1.transpose().format(Eigen::FullPrecision) << " -> "
+        << p2.transpose().format(Eigen::FullPrecision);
     compare(direct, pieces, p1, p2, d, false);
     compare(direct, pieces, p1, p2, d, true);
-    expect_matches_classify(body, clip_segment(direct, p1, p2), p1, p2);
+    expect_matches_classify(body, parts, p1, p2);
   }
   return d;
 }
