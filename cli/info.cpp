@@ -1,5 +1,6 @@
 #include "cli/info.h"
 
+#include <algorithm>
 #include <cstdio>
 
 #include <filesystem>
@@ -27,9 +28,16 @@ std::string pad(const std::string& name) {
   return name.size() >= 12 ? name : name + std::string(12 - name.size(), ' ');
 }
 
+// The table lists at most this many non-convex faces per body: a float32 mesh of a sphere has
+// tens of thousands (rounding makes its diagonals reflex), which made one row of 200 KB.
+constexpr size_t kListedFaces = 1000;
+
 std::string join(const std::vector<int>& ids) {
   std::string s;
-  for (size_t i = 0; i < ids.size(); ++i) s += (i ? ", " : "") + std::to_string(ids[i]);
+  const size_t shown = std::min(ids.size(), kListedFaces);
+  for (size_t i = 0; i < shown; ++i) s += (i ? ", " : "") + std::to_string(ids[i]);
+  if (shown < ids.size())
+    s += ", … (" + std::to_string(ids.size()) + " in all; --json lists every one)";
   return s.empty() ? "-" : s;
 }
 

@@ -24,7 +24,12 @@ using hedra::testing::write;
 
 Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {  // built in steps: GCC 12 warns (-Wrestrict) on "'" + s
+  std::string quoted = "'";
+  quoted += p.string();
+  quoted += "'";
+  return quoted;
+}
 
 std::string num(double v) {
   std::ostringstream s;
@@ -148,6 +153,25 @@ TEST_P(ExtremeScaleCli, SegmentClipsToTheCube) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scales, ExtremeScaleCli, ::testing::Values(1e-100, 1e-30, 1.0, 1e30, 1e70));
+
+// Beyond the accepted range, a one-line exit 3 that says why (docs/model.md, "Validation"): a
+// cube 1e100 across has coordinates beyond ±1e75 (the centroid's fourth powers of coordinates
+// must stay finite); one 1e-110 across encloses a volume that underflows to zero, which used to
+// be reported as "faces are oriented inwards (signed volume 0)".
+TEST(ExtremeScaleCliLimits, BodiesBeyondTheRangeAreNamedWithTheReason) {
+  const fs::path dir = hedra::testing::temp_dir("extreme_limits");
+  write(dir / "huge.off", cube_off(1e100));
+  write(dir / "tiny.off", cube_off(1e-110));
+  Result r = run("info " + q(dir / "huge.off"));
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.err.find("huge.off"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("beyond"), std::string::npos) << r.err;
+  r = run("info " + q(dir / "tiny.off"));
+  EXPECT_EQ(r.code, 3);
+  EXPECT_NE(r.err.find("tiny.off"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("too small for double precision"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("oriented inwards"), std::string::npos) << r.err;
+}
 
 // The example: −1e70 … 1e70 against the unit cube is −1 … 1, on the single-piece batch
 // path, the pieces path (an L prism's convex pieces) and the outside path.

@@ -28,7 +28,12 @@ Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 fs::path temp_dir(const std::string& name) { return hedra::testing::temp_dir("hostile_" + name); }
 using hedra::testing::write;
 
-std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
+std::string q(const fs::path& p) {  // built in steps: GCC 12 warns (-Wrestrict) on "'" + s
+  std::string quoted = "'";
+  quoted += p.string();
+  quoted += "'";
+  return quoted;
+}
 
 long lines(const std::string& s) { return std::count(s.begin(), s.end(), '\n'); }
 
@@ -394,6 +399,28 @@ TEST(HostileCli, InfoTableKeepsLongRowsWhole) {
   EXPECT_GT(line.size(), 512u);
   EXPECT_NE(line.find(", 301"), std::string::npos) << line;  // the last side face
   EXPECT_NE(r.out.find("\nnext "), std::string::npos) << r.out;
+}
+
+// A body with more non-convex faces than the table lists (1000) gets the first 1000 and the
+// count; the JSON lists every one. A 2400-point star prism has 1200 reflex edges.
+TEST(HostileCli, InfoTableCutsHugeFaceListsWithTheCount) {
+  const fs::path dir = temp_dir("table_cut");
+  std::string star;
+  for (int i = 0; i < 2400; ++i) {
+    const double a = 2 * 3.14159265358979 * i / 2400, r = i % 2 ? 1.0 : 2.0;
+    star += std::string(i ? ", " : "") + "[" + std::to_string(r * std::cos(a)) + ", " + std::to_string(r * std::sin(a)) + "]";
+  }
+  const std::string scene = write(dir / "star.json", R"({"version": 1, "bodies": [
+    {"name": "star", "prism": {"polygon": [)" + star + R"(], "z": [0, 1]}}]})");
+  Result r = run("info " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("info --json " + scene);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto faces = nlohmann::json::parse(r.out)["bodies"][0]["nonconvex_faces"];
+  ASSERT_GT(faces.size(), 1000u);
+  r = run("info " + scene);
+  EXPECT_NE(r.out.find(", … (" + std::to_string(faces.size()) + " in all; --json lists every one)"),
+            std::string::npos) << r.out.substr(0, 300);
 }
 
 }  // namespace

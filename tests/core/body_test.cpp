@@ -131,6 +131,31 @@ TEST(Body, FaceWithHoleIsOneFace) {
 }
 
 // Invalid input: each gives an InvalidInput whose message names the problem and the place.
+// Regression (fuzz finding, CI of stop 20): a real triangle 2^-26 high at y = 1e8 got a zero
+// Newell normal (the sums of absolute coordinates cancelled) and the body was rejected as
+// "face 0 has zero area"; its written OFF file was rejected the same way.
+TEST(Body, ThinFaceFarFromTheOriginHasItsArea) {
+  const double y = 1e8, h = std::ldexp(1.0, -26);
+  const std::vector<Vec3> v{{0, y, 0}, {1, y, 0}, {0.5, y + h, 0}, {0.5, y, 1}};
+  ASSERT_EQ(v[2].y() - y, h);  // representable exactly
+  const Body b(v, {Face({0, 2, 1}), Face({0, 1, 3}), Face({1, 2, 3}), Face({2, 0, 3})});
+  // Exact values: area of face 0 = h / 2; volume = (h / 2) · 1 / 3.
+  EXPECT_DOUBLE_EQ(b.volume(), h / 6);
+  for (int f = 0; f < 4; ++f) EXPECT_GT(b.face_area(f), 0) << f;
+}
+
+// Regression: the triangulation's check that the loops bound a region summed the loops' signed
+// area about the coordinate origin; a plate 1e6 away with a thin triangular hole lost the
+// 1e-9 agreement to cancellation and was rejected ("its loops do not bound a region").
+TEST(Body, FaceWithAThinHoleFarFromTheOrigin) {
+  const Body plate = prism({{0, 0}, {10, 0}, {10, 10}, {0, 10}}, 0, 1,
+                           {{{9, 1.0002}, {1, 1.0001}, {1, 1}}});
+  const Body far = plate.translated({1e6, 3e6, 7e5});
+  // Hole area = |(0, 0.0001) x (8, 0.0002)| / 2 = 0.0004 (inputs rounded to doubles).
+  EXPECT_NEAR(far.volume(), 100 - 0.0004, 1e-7);
+  EXPECT_NEAR(far.volume(), plate.volume(), 1e-7);
+}
+
 TEST(BodyErrors, NamedMessages) {
   const auto v = cube_vertices();
   const auto f = cube_faces();

@@ -12,6 +12,7 @@
 #include "testing/bad_files.h"
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
+#include "hedra/core/transform.h"
 
 namespace hedra {
 namespace {
@@ -54,6 +55,25 @@ TEST(MeshIo, RoundTripEveryFormat) {
       SCOPED_TRACE(name);
       expect_same(bodies[i], back[i], 0);
     }
+  }
+}
+
+// Regression (fuzz finding, CI of stop 20): an L whose vertex (0, 1) lies on the edge
+// (0, 3)–(0, 0), rotated 30° about z, has a bottom-face triangle 1e-17 of its size wide. Its
+// rounded Newell normal was zero, so hedra rejected its own ASCII STL: "polygon 1 has zero area".
+TEST(MeshIo, SliverTriangleOfARotatedFaceReadsBack) {
+  const fs::path dir = temp_dir();
+  const Body l = prism({{0, 0}, {3, 0}, {4, 1}, {0, 1}, {1, 3}, {0, 3}}, 0, 2)
+                     .transformed(Transform::rotation_z(30));
+  for (const char* name : {"l.off", "l.obj", "l.ply", "ascii.stl"}) {
+    const std::string path = (dir / name).string();
+    io::WriteOptions options;
+    options.stl_ascii = std::string(name) == "ascii.stl";
+    io::write_bodies({l}, path, options);
+    std::vector<Body> back = io::read_bodies(path);
+    ASSERT_EQ(back.size(), 1u) << name;
+    SCOPED_TRACE(name);
+    expect_same(l, back[0], 0);
   }
 }
 

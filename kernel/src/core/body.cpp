@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <map>
 #include <numeric>
@@ -247,7 +248,9 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   for (int f = 0; f < n; ++f) {
     const Face& face = faces[f];
     const std::string where = "face " + str(f);
-    const Vec3 outward = newell_normal(vertices, face.loops);
+    // One loop: exact signs where rounding cannot tell (a sliver triangle read from a file).
+    const Vec3 outward = face.loops.size() == 1 ? oriented_normal(vertices, face.loops[0])
+                                                : newell_normal(vertices, face.loops);
     // stableNorm and the unit normal below: the squares of a tiny face's normal (a body of
     // size 1e-100) underflow, those of a huge one overflow; the checks use the unit normal.
     const double length = outward.stableNorm();
@@ -361,6 +364,13 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
     });
     if (flat) throw InvalidInput("flat body: all vertices lie in one plane (volume is zero)");
   }
+  // Not flat, yet no volume at all: every product of three coordinate differences underflowed
+  // (a body about 1e-108 across or smaller); saying "oriented inwards" would mislead.
+  if (impl->bbox.diagonal().maxCoeff() < 1e-90 &&
+      std::abs(impl->volume) < std::numeric_limits<double>::min())
+    throw InvalidInput("body too small for double precision: its volume (about the cube of " +
+                       fmt(impl->bbox.diagonal().maxCoeff()) +
+                       ") underflows; bodies down to about 1e-100 across are accepted");
   if (!(impl->volume > 0))
     throw InvalidInput("faces are oriented inwards (signed volume " + fmt(impl->volume) +
                        "): every face must run counter-clockwise seen from outside");

@@ -1,19 +1,77 @@
 #include "hedra/core/face_geometry.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include <CGAL/Exact_rational.h>
+
 #include <utility>
+
+#include "hedra/core/predicates.h"
 
 namespace hedra {
 
 Vec3 newell_normal(const std::vector<Vec3>& vertices, const std::vector<int>& loop) {
+  // Relative to the loop's first vertex (the sum is the same for any origin): with absolute
+  // coordinates the sums p + q carry the face's distance from the origin and the products
+  // cancel, so a real but thin face far from the origin (a triangle 1.5e-8 high at y = 1e8)
+  // came out with a zero normal and was rejected as having zero area. The differences of
+  // nearby vertices are exact or nearly so.
   Vec3 n = Vec3::Zero();
   const size_t k = loop.size();
+  if (k == 0) return n;
+  const Vec3& o = vertices[loop[0]];
   for (size_t i = 0; i < k; ++i) {
-    const Vec3& p = vertices[loop[i]];
-    const Vec3& q = vertices[loop[(i + 1) % k]];
+    const Vec3 p = vertices[loop[i]] - o;
+    const Vec3 q = vertices[loop[(i + 1) % k]] - o;
     n.x() += (p.y() - q.y()) * (p.z() + q.z());
     n.y() += (p.z() - q.z()) * (p.x() + q.x());
     n.z() += (p.x() - q.x()) * (p.y() + q.y());
+  }
+  return n;
+}
+
+Vec3 oriented_normal(const std::vector<Vec3>& vertices, const std::vector<int>& loop) {
+  const size_t k = loop.size();
+  Vec3 n = newell_normal(vertices, loop);
+  if (k < 3) return n;
+  // Error bound of each centred Newell component: every term is a product of a rounded
+  // difference and a rounded sum of differences (relative error ≤ 3u each) and the sum of k
+  // terms adds ≤ (k − 1)u: |error| ≤ (k + 4)·u·Σ|term| (u = 2^-53), doubled for margin.
+  const Vec3& o = vertices[loop[0]];
+  Vec3 magnitude = Vec3::Zero();
+  for (size_t i = 0; i < k; ++i) {
+    const Vec3 p = vertices[loop[i]] - o;
+    const Vec3 q = vertices[loop[(i + 1) % k]] - o;
+    magnitude.x() += std::abs((p.y() - q.y()) * (p.z() + q.z()));
+    magnitude.y() += std::abs((p.z() - q.z()) * (p.x() + q.x()));
+    magnitude.z() += std::abs((p.x() - q.x()) * (p.y() + q.y()));
+  }
+  const double u = std::ldexp(1.0, -53);
+  const double factor = 2 * (static_cast<double>(k) + 4) * u;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(n[axis]) > factor * magnitude[axis] && std::isfinite(n[axis])) continue;
+    // Component `axis` of the area vector is the signed area of the loop projected on the
+    // plane of the two other coordinates (a cyclic pair, so the sign matches).
+    const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+    int sign = 0;
+    if (k == 3) {
+      const auto proj = [&](int i) { return Vec2(vertices[loop[i]][a], vertices[loop[i]][b]); };
+      const Sign s = orient2d(proj(0), proj(1), proj(2));
+      sign = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+    } else {
+      CGAL::Exact_rational sum = 0;
+      for (size_t i = 0; i < k; ++i) {
+        const Vec3& p = vertices[loop[i]];
+        const Vec3& q = vertices[loop[(i + 1) % k]];
+        sum += CGAL::Exact_rational(p[a]) * CGAL::Exact_rational(q[b]) -
+               CGAL::Exact_rational(q[a]) * CGAL::Exact_rational(p[b]);
+      }
+      sign = CGAL::sign(sum);
+    }
+    const double size = std::max(std::abs(n[axis]), std::numeric_limits<double>::min());
+    n[axis] = sign * size;
   }
   return n;
 }
@@ -26,6 +84,17 @@ Vec3 newell_normal(const std::vector<Vec3>& vertices, const std::vector<std::vec
 
 std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
                                   const Vec3& normal) {
+  if (loop.size() == 3) {
+    // The triangle in its own order, from its lexicographically smallest vertex (exact).
+    size_t first = 0;
+    for (size_t i = 1; i < 3; ++i) {
+      const Vec3& p = vertices[loop[i]];
+      const Vec3& q = vertices[loop[first]];
+      if (std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3)) first = i;
+    }
+    if (collinear(vertices[loop[0]], vertices[loop[1]], vertices[loop[2]])) return {loop[0], loop[1], -1};
+    return {loop[first], loop[(first + 1) % 3], loop[(first + 2) % 3]};
+  }
   auto lex_less = [&](int i, int j) {
     const Vec3& p = vertices[i];
     const Vec3& q = vertices[j];

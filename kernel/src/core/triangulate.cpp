@@ -138,6 +138,10 @@ std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& ver
   // General path: constrained Delaunay triangulation of all loops.
   Cdt cdt;
   double signed_area = 0;
+  // The loops' signed area about one of their vertices (the same sum for any origin): about
+  // the coordinate origin, a face 1e6 away lost the 1e-9 agreement below to cancellation and
+  // a valid face with a thin hole was rejected.
+  const Vec2 origin = project(vertices[loops[0][0]]);
   try {
     for (const std::vector<int>& loop : loops) {
       std::vector<Cdt::Vertex_handle> handles;
@@ -152,7 +156,8 @@ std::vector<std::array<int, 3>> triangulate_polygon(const std::vector<Vec3>& ver
         handles.push_back(h);
       }
       for (size_t i = 0; i < loop.size(); ++i) {
-        Vec2 a = project(vertices[loop[i]]), b = project(vertices[loop[(i + 1) % loop.size()]]);
+        const Vec2 a = project(vertices[loop[i]]) - origin,
+                   b = project(vertices[loop[(i + 1) % loop.size()]]) - origin;
         signed_area += 0.5 * (a.x() * b.y() - a.y() * b.x());
         cdt.insert_constraint(handles[i], handles[(i + 1) % loop.size()]);
       }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include <Eigen/SVD>
@@ -99,7 +100,11 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   if (max_abs > 0 && std::isfinite(max_abs)) std::frexp(max_abs, &exponent);
   const double normal_scale = std::ldexp(1.0, -2 * exponent);
   for (int p = 0; p < n; ++p) {
-    normals[p] = newell_normal(v, polys[p]) * normal_scale;
+    const Vec3 oriented = oriented_normal(v, polys[p]);
+    normals[p] = oriented * normal_scale;
+    for (int axis = 0; axis < 3; ++axis)  // the scaling must not drop an exact sign
+      if (oriented[axis] != 0 && normals[p][axis] == 0)
+        normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
     // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
     // triangles, such as the corner faces of decomposition pieces written to files.
     supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
@@ -269,7 +274,7 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
           a = next[a].first;
         }
         if (a != a0) { pinched = true; break; }
-        bool outer = newell_normal(mv, loop).dot(normal) > 0;
+        bool outer = oriented_normal(mv, loop).dot(normal) > 0;
         outers += outer;
         if (outer) loops.insert(loops.begin(), std::move(loop));
         else loops.push_back(std::move(loop));

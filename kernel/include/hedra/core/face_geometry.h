@@ -16,12 +16,23 @@ Vec3 newell_normal(const std::vector<Vec3>& vertices, const std::vector<std::vec
 /// Newell's area vector of one loop.
 Vec3 newell_normal(const std::vector<Vec3>& vertices, const std::vector<int>& loop);
 
+/// Newell's area vector of one loop with every component's sign exact: where the rounded
+/// sum cannot be trusted (a sliver triangle, 1e-17 of its size wide: a rotated vertex an ulp
+/// off an edge, written to a file and read back), the sign comes from the exact projected
+/// area (orient2d for a triangle, exact rationals otherwise) and a component the rounding
+/// made zero or flipped gets that sign and the smallest normal magnitude. Its direction is
+/// then only as good as the rounding allows, but it never points to the wrong side of a
+/// coordinate plane, so dot products with a parallel normal have the exact sign. Cost O(k),
+/// O(k) exact rational operations in the rare uncertain case.
+Vec3 oriented_normal(const std::vector<Vec3>& vertices, const std::vector<int>& loop);
+
 /// Three vertices (a, b, c) of `loop` with (b − a) × (c − a) pointing along `normal` and
 /// within a constant factor of the best-conditioned choice: a is the lexicographically
 /// smallest vertex, b the farthest from a, c maximises |area| along `normal` (b and c swapped when
 /// needed so the triple turns the normal's way). For exactly
 /// coplanar vertices every non-degenerate triple defines the same plane; for rounded ones this
-/// fixes one, deterministically. Cost O(k). Returns c = −1 when every vertex is collinear
+/// fixes one, deterministically. A triangle is its own triple, in its own (exact) turning
+/// order, whatever `normal` says. Cost O(k). Returns c = −1 when every vertex is collinear
 /// with a and b (in floating point).
 std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
                                   const Vec3& normal);
