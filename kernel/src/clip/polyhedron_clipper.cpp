@@ -422,6 +422,7 @@ struct SourcedPart {
 }  // namespace
 
 std::vector<ClipPart> SolidClipper::clip(const Vec3& p1, const Vec3& p2) const {
+  if (polyhedra_.empty()) return clip_segment(convex_, p1, p2);  // convex pieces, as ever
   std::deque<ExactPlane> planes;  // polyhedron planes, stable while parts are compared
   std::vector<SourcedPart> parts;
   const auto sourced = [&](const ClipEnd& e) -> SegmentEnd {
