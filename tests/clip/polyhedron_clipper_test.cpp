@@ -47,6 +47,14 @@ std::vector<ConvexClipper> pieces_of(const Body& body) {
 // Segments that hit the degenerate cases: random points, points on a grid of the body's
 // coordinates (faces, edges, vertices), vertex to vertex (edges, face diagonals), through a
 // vertex, and in the planes of faces.
+// "x y z -> x y z" with every digit (%.17g).
+std::string text(const Vec3& p1, const Vec3& p2) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g -> %.17g %.17g %.17g", p1.x(), p1.y(), p1.z(),
+                p2.x(), p2.y(), p2.z());
+  return buf;
+}
+
 std::vector<std::pair<Vec3, Vec3>> segments_for(const Body& body, int count, std::mt19937_64& rng) {
   const auto& v = body.vertices();
   const Eigen::AlignedBox3d box = body.bbox();
@@ -152,7 +160,9 @@ void compare(const PolyhedronClipper& direct, const std::vector<ConvexClipper>& 
              const Vec3& p1, const Vec3& p2, Differences& d, bool outside) {
   const std::vector<ClipPart> a =
       outside ? clip_segment_outside(direct, p1, p2) : clip_segment(direct, p1, p2);
-  const double tol = 1e-12 * direct.body().scale();
+  // Gaps of rounding size are joined only where the decomposition rounds (not `report`): exact
+  // decompositions are compared as they are (a segment may pass within an ulp of a corner).
+  const double tol = d.report ? -1 : 1e-12 * direct.body().scale();
   const std::vector<Part> b = decomposition_parts(pieces, p1, p2, outside, tol, d.joined_gaps);
   ++d.segments;
   bool same = a.size() == b.size();
@@ -161,9 +171,7 @@ void compare(const PolyhedronClipper& direct, const std::vector<ConvexClipper>& 
     ++d.different_parts;
     if (d.report)
       ADD_FAILURE() << (outside ? "outside" : "inside") << ": " << a.size() << " direct parts, "
-                    << b.size() << " decomposition parts for "
-                    << p1.transpose().format(Eigen::FullPrecision) << " -> "
-                    << p2.transpose().format(Eigen::FullPrecision);
+                    << b.size() << " decomposition parts for " << text(p1, p2);
     return;
   }
   bool points_equal = true;
@@ -258,9 +266,7 @@ Differences run_differential(const Body& body, int count, std::uint64_t seed, bo
   d.report = strict;
   for (const auto& [p1, p2] : segments_for(body, count, rng)) {
     const std::vector<ClipPart> parts = clip_segment(direct, p1, p2);
-    EXPECT_TRUE(matches_exact_solid(direct, solid, parts, p1, p2))
-        << p1.transpose().format(Eigen::FullPrecision) << " -> "
-        << p2.transpose().format(Eigen::FullPrecision);
+    EXPECT_TRUE(matches_exact_solid(direct, solid, parts, p1, p2)) << text(p1, p2);
     compare(direct, pieces, p1, p2, d, false);
     compare(direct, pieces, p1, p2, d, true);
   }
@@ -293,7 +299,6 @@ TEST(PolyhedronClipper, SameAsDecompositionOnIntegerBodies) {
     const Differences d = run_differential(shape.body, 300, ++seed);
     EXPECT_EQ(d.different_parts, 0);
     EXPECT_EQ(d.different_points, 0) << "largest difference " << d.largest_gap;
-    EXPECT_EQ(d.joined_gaps, 0);
   }
 }
 
