@@ -273,6 +273,58 @@ Differences run_differential(const Body& body, int count, std::uint64_t seed, bo
   return d;
 }
 
+// Hand-made degenerate cases on the L prism {0 ≤ x ≤ 4, 0 ≤ y ≤ 1} ∪ {0 ≤ x ≤ 1, 0 ≤ y ≤ 3},
+// 0 ≤ z ≤ 2, with their exact end points.
+TEST(PolyhedronClipper, LPrismDegenerateCases) {
+  const PolyhedronClipper l(suite::shapes(false)[0].body);
+  struct Case {
+    Vec3 p1, p2;
+    std::vector<std::pair<Vec3, Vec3>> parts;  // end points
+    std::vector<std::pair<Vec3, Vec3>> outside;
+  };
+  const std::vector<Case> cases = {
+      // Across the foot: x in [0, 4].
+      {{-1, 0.5, 1}, {5, 0.5, 1}, {{{0, 0.5, 1}, {4, 0.5, 1}}},
+       {{{-1, 0.5, 1}, {0, 0.5, 1}}, {{4, 0.5, 1}, {5, 0.5, 1}}}},
+      // In the plane x = 1 (inside the body, where a decomposition cuts): y in [0, 3].
+      {{1, -1, 1}, {1, 4, 1}, {{{1, 0, 1}, {1, 3, 1}}}, {{{1, -1, 1}, {1, 0, 1}}, {{1, 3, 1}, {1, 4, 1}}}},
+      // Across the notch: two parts.
+      {{0.5, 2.5, 1}, {3.5, 0.5, 1}, {{{0.5, 2.5, 1}, {1, 2.1666666666666665, 1}}, {{2.75, 1, 1}, {3.5, 0.5, 1}}},
+       {{{1, 2.1666666666666665, 1}, {2.75, 1, 1}}}},
+      // Touching the corner (4, 1, 2) only: a single point; outside, the whole segment.
+      {{3, 2, 2}, {5, 0, 2}, {{{4, 1, 2}, {4, 1, 2}}}, {{{3, 2, 2}, {5, 0, 2}}}},
+      // Along the bottom edge y = z = 0: x in [0, 4], on the boundary.
+      {{-1, 0, 0}, {5, 0, 0}, {{{0, 0, 0}, {4, 0, 0}}}, {{{-1, 0, 0}, {0, 0, 0}}, {{4, 0, 0}, {5, 0, 0}}}},
+      // Along the reflex edge x = y = 1: z in [0, 2].
+      {{1, 1, -1}, {1, 1, 3}, {{{1, 1, 0}, {1, 1, 2}}}, {{{1, 1, -1}, {1, 1, 0}}, {{1, 1, 2}, {1, 1, 3}}}},
+      // In the notch, through the reflex edge's line beyond the body: nothing inside.
+      {{1.5, 1.5, 1}, {3, 3, 1}, {}, {{{1.5, 1.5, 1}, {3, 3, 1}}}},
+      // Through the reflex edge from the notch into the body: it only passes the edge, then
+      // runs inside.
+      {{2, 2, 1}, {0.5, 0.5, 1}, {{{1, 1, 1}, {0.5, 0.5, 1}}}, {{{2, 2, 1}, {1, 1, 1}}}},
+      // In the top face plane z = 2, across the notch: two parts on the boundary.
+      {{0.5, 2.5, 2}, {3.5, 0.5, 2}, {{{0.5, 2.5, 2}, {1, 2.1666666666666665, 2}}, {{2.75, 1, 2}, {3.5, 0.5, 2}}},
+       {{{1, 2.1666666666666665, 2}, {2.75, 1, 2}}}},
+      // Points: inside, on a vertex, outside.
+      {{0.5, 0.5, 1}, {0.5, 0.5, 1}, {{{0.5, 0.5, 1}, {0.5, 0.5, 1}}}, {}},
+      {{4, 1, 2}, {4, 1, 2}, {{{4, 1, 2}, {4, 1, 2}}}, {}},
+      {{2, 2, 1}, {2, 2, 1}, {}, {{{2, 2, 1}, {2, 2, 1}}}},
+  };
+  const auto points = [&](const std::vector<ClipPart>& parts, const Vec3& p1, const Vec3& p2) {
+    std::vector<std::pair<Vec3, Vec3>> out;
+    for (const ClipPart& p : parts)
+      out.emplace_back(end_point(l, p.start, p1, p2), end_point(l, p.end, p1, p2));
+    return out;
+  };
+  for (const Case& c : cases) {
+    EXPECT_EQ(points(clip_segment(l, c.p1, c.p2), c.p1, c.p2), c.parts) << text(c.p1, c.p2);
+    EXPECT_EQ(points(clip_segment_outside(l, c.p1, c.p2), c.p1, c.p2), c.outside)
+        << text(c.p1, c.p2);
+  }
+  EXPECT_THROW(clip_segment(l, {0, 0, NAN}, {1, 1, 1}), InvalidInput);
+  EXPECT_THROW(clip_segment(l, {0, 0, 1e80}, {1, 1, 1}), InvalidInput);
+}
+
 // The oracle is not vacuous: it rejects a missing part, a part too long and a spurious one.
 TEST(PolyhedronClipper, OracleRejectsWrongParts) {
   const Body l = suite::shapes(false)[0].body;  // the L prism
