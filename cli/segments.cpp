@@ -20,7 +20,7 @@ std::vector<Segment> parse_segments(const std::string& path, const std::string& 
     for (size_t i = 0; i < 6; ++i) {
       v[i] = reader.number(i, kNames[i]);
       if (std::abs(v[i]) > kMaxAbsCoordinate)
-        reader.fail(std::string(kNames[i]) + " is beyond ±1e75");
+        reader.fail(std::string(kNames[i]) + " is beyond ±1e101");
     }
     segments.push_back({Vec3(v[0], v[1], v[2]), Vec3(v[3], v[4], v[5]), reader.line_number()});
   }

@@ -15,7 +15,7 @@ struct Segment {
 
 /// Parses the text of a segments file; `path` names it in messages. Cost O(length).
 /// \throw InvalidInput "file:line: …" for a line without 6 finite numbers or a coordinate
-///   beyond ±1e75.
+///   beyond ±1e101.
 std::vector<Segment> parse_segments(const std::string& path, const std::string& text);
 
 }  // namespace hedra::cli

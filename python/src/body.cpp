@@ -219,7 +219,7 @@ py::array_t<double> clip_segments(const py::handle& bodies_value, const py::hand
       for (int k = 0; k < 6; ++k)
         if (!std::isfinite(r(i, k)) || std::abs(r(i, k)) > kMaxAbsCoordinate)
           throw InvalidInput("segments: row " + std::to_string(i) +
-                             ": coordinates must be finite and within ±1e75");
+                             ": coordinates must be finite and within ±1e101");
       segments[static_cast<size_t>(i)] = {Vec3(r(i, 0), r(i, 1), r(i, 2)), Vec3(r(i, 3), r(i, 4), r(i, 5))};
     }
   }

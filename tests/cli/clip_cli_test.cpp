@@ -197,7 +197,7 @@ TEST(ClipCli, MalformedLinesNameTheLineAndExitWithThree) {
        ":3: expected 6 numbers (x1 y1 z1 x2 y2 z2), got 5 fields"},
       {"0 0 0 1 1 abc\n", ":1: expected a number for z2, got 'abc'"},
       {"0 0 0 1 1 1\n\n0 0 0 1 1 1 7\n", ":3: expected 6 numbers"},
-      {"0 0 0 1 1 1e300\n", ":1: z2 is beyond ±1e75"},
+      {"0 0 0 1 1 1e300\n", ":1: z2 is beyond ±1e101"},
       {"0 0 nan 1 1 1\n", ":1: "},
   };
   for (const auto& [text, message] : cases) {

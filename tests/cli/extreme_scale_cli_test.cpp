@@ -152,15 +152,15 @@ TEST_P(ExtremeScaleCli, SegmentClipsToTheCube) {
   EXPECT_EQ(v[5], 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Scales, ExtremeScaleCli, ::testing::Values(1e-100, 1e-30, 1.0, 1e30, 1e70));
+INSTANTIATE_TEST_SUITE_P(Scales, ExtremeScaleCli, ::testing::Values(1e-100, 1e-30, 1.0, 1e30, 1e70, 1e100));
 
 // Beyond the accepted range, a one-line exit 3 that says why (docs/model.md, "Validation"): a
-// cube 1e100 across has coordinates beyond ±1e75 (the centroid's fourth powers of coordinates
-// must stay finite); one 1e-110 across encloses a volume that underflows to zero, which used to
+// cube 2e102 across has coordinates beyond ±1e101 (its volume, 8e306, and sums of such terms
+// would leave double's range); one 1e-110 across encloses a volume that underflows to zero, which used to
 // be reported as "faces are oriented inwards (signed volume 0)".
 TEST(ExtremeScaleCliLimits, BodiesBeyondTheRangeAreNamedWithTheReason) {
   const fs::path dir = hedra::testing::temp_dir("extreme_limits");
-  write(dir / "huge.off", cube_off(1e100));
+  write(dir / "huge.off", cube_off(1e102));
   write(dir / "tiny.off", cube_off(1e-110));
   Result r = run("info " + q(dir / "huge.off"));
   EXPECT_EQ(r.code, 3);

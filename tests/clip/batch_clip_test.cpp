@@ -144,7 +144,7 @@ TEST(BatchClip, InvalidCoordinatesThrowAsTheScalarPath) {
   BatchClipResult r;
   EXPECT_THROW(clip_batch(c, s, r), InvalidInput);
   SegmentArrays far;
-  far.push_back({0, 0, 0}, {1e76, 1, 1});
+  far.push_back({0, 0, 0}, {1e102, 1, 1});  // beyond kMaxAbsCoordinate
   EXPECT_THROW(clip_batch(c, far, r), InvalidInput);
   SegmentArrays ragged;
   ragged.push_back({0, 0, 0}, {1, 1, 1});

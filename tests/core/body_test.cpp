@@ -156,6 +156,21 @@ TEST(Body, FaceWithAThinHoleFarFromTheOrigin) {
   EXPECT_NEAR(far.volume(), plate.volume(), 1e-7);
 }
 
+// The centroid's moments are fourth powers of coordinates: summed about the box centre at the
+// unit scale (a power of two), they stay finite for a body 1e100 across and do not underflow
+// for one 1e-100 across (they overflowed and underflowed before).
+TEST(Body, CentroidAndVolumeFrom1eMinus100To1e100) {
+  for (const double h : {1e-100, 1e-30, 1.0, 1e30, 1e70, 1e100}) {
+    SCOPED_TRACE(h);
+    const Body b = box({h, 2 * h, 3 * h}, {2 * h, 4 * h, 6 * h});
+    EXPECT_NEAR(b.volume(), 6 * h * h * h, 1e-14 * 6 * h * h * h);
+    const Vec3 c = b.centroid();
+    EXPECT_NEAR(c.x(), 1.5 * h, 1e-14 * h);
+    EXPECT_NEAR(c.y(), 3 * h, 1e-14 * h);
+    EXPECT_NEAR(c.z(), 4.5 * h, 1e-14 * h);
+  }
+}
+
 TEST(BodyErrors, NamedMessages) {
   const auto v = cube_vertices();
   const auto f = cube_faces();

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <gmpxx.h>
+
 #include <cmath>
+#include <random>
 
 namespace hedra {
 namespace {
@@ -40,6 +43,47 @@ TEST(Predicates, SideOfPlaneIsExact) {
   EXPECT_EQ(side_of_plane(q, Vec3(x, y, z)), expected);
   // Huge coordinates: the interval filter overflows, the exact path decides.
   EXPECT_EQ(side_of_plane(Plane(1e200, 0, 0, -1e200), Vec3(1e200, 0, 0)), Sign::Positive);
+}
+
+// The static filter of side_of_plane(Plane) against exact rationals (GMP), on points within a
+// few ulps of the plane and far from it, at scales from 1e-150 to 1e150 (products near the
+// subnormal range and near overflow included).
+TEST(Predicates, SideOfPlaneAgreesWithRationals) {
+  std::mt19937_64 random(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::uniform_int_distribution<int> ulps(-3, 3), scale(-150, 150);
+  int zero = 0, decided = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double s = std::pow(10.0, scale(random)), t = std::pow(10.0, scale(random) / 2);
+    Plane plane(unit(random) * s, unit(random) * s, unit(random) * s, unit(random) * s * t);
+    double x = unit(random) * t, y = unit(random) * t, z = 0;
+    if (i % 4 == 1) {
+      // Small integers times powers of two: the point lies exactly on the plane.
+      std::uniform_int_distribution<int> small(-8, 8);
+      const double e = std::ldexp(1.0, scale(random) / 3), f = std::ldexp(1.0, scale(random) / 3);
+      const double a = small(random) * e, b = small(random) * e, c = (1 + std::abs(small(random))) * e;
+      x = small(random) * f, y = small(random) * f, z = small(random) * f;
+      plane = Plane(a, b, c, -(a * x + b * y + c * z));
+    } else {
+      const Vec4& k = plane.coefficients;
+      if (k[2] == 0) continue;
+      z = -(k[0] * x + k[1] * y + k[3]) / k[2];
+      if (i % 4 == 0) z += unit(random) * t;  // far from the plane
+    }
+    const Vec4& k = plane.coefficients;
+    for (int u = ulps(random); u > 0; --u) z = std::nextafter(z, INFINITY);
+    for (int u = ulps(random); u < 0; ++u) z = std::nextafter(z, -INFINITY);
+    if (!std::isfinite(z)) continue;
+    const mpq_class exact = mpq_class(k[0]) * mpq_class(x) + mpq_class(k[1]) * mpq_class(y) +
+                            mpq_class(k[2]) * mpq_class(z) + mpq_class(k[3]);
+    const int c = sgn(exact);
+    const Sign expected = c > 0 ? Sign::Positive : (c < 0 ? Sign::Negative : Sign::Zero);
+    ASSERT_EQ(side_of_plane(plane, Vec3(x, y, z)), expected) << "case " << i;
+    zero += c == 0;
+    ++decided;
+  }
+  EXPECT_GT(decided, 19000);
+  EXPECT_GT(zero, 0);  // some points exactly on their plane
 }
 
 TEST(Predicates, SegmentTriangle) {

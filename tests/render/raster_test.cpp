@@ -744,6 +744,50 @@ TEST(RasterImage, SupersamplingAveragesTheSamples) {
   EXPECT_GT(mixed, 200);
 }
 
+// Issue 17: tiny and huge but valid scenes. The course's L block on a ground slab, seen in
+// perspective under a point light, scaled by s: the cast-shadow area scales as s² and the image
+// is the same image (scaling by a power of ten rounds the inputs, so a pixel on an edge may flip:
+// at most 1 % of them).
+std::string l_block_scene(double s) {
+  char text[1024];
+  std::snprintf(text, sizeof text, R"({"version": 1, "bodies": [
+    {"name": "L", "prism": {"polygon": [[0, 0], [%.17g, 0], [%.17g, %.17g], [%.17g, %.17g], [%.17g, %.17g], [0, %.17g]], "z": [0, %.17g]}},
+    {"name": "ground", "box": {"min": [%.17g, %.17g, %.17g], "max": [%.17g, %.17g, 0]}}],
+    "camera": {"projection": "perspective", "eye": [%.17g, %.17g, %.17g], "target": [%.17g, %.17g, %.17g], "fov_deg": 40},
+    "lights": [{"type": "point", "position": [%.17g, %.17g, %.17g], "intensity": 1}],
+    "image": {"width": 80, "height": 60}})",
+                4 * s, 4 * s, s, s, s, s, 3 * s, 3 * s, 2 * s, -10 * s, -10 * s, -s, 10 * s, 10 * s,
+                -10 * s, -12 * s, 8 * s, s, s, s, 5 * s, -5 * s, 10 * s);
+  return text;
+}
+
+TEST(RenderExtremes, ScenesFrom1eMinus100To1e100RenderAndCastTheSameShadows) {
+  const Scene unit = io::parse_scene("unit.json", l_block_scene(1));
+  RenderOptions options;
+  options.threads = 1;
+  const Image reference = render(unit, options);
+  ShadowOptions shadow_options;
+  shadow_options.threads = 1;
+  const ShadowResult unit_shadows = compute_shadows(unit, shadow_options);
+  double unit_area = 0;
+  for (const FaceShadow& f : unit_shadows.lights[0].faces) unit_area += f.self_shadowed() ? 0 : f.shadow_area;
+  ASSERT_GT(unit_area, 1);
+  for (const double s : {1e-100, 1e-30, 1e30, 1e70, 1e100}) {
+    SCOPED_TRACE(s);
+    const Scene scene = io::parse_scene("scaled.json", l_block_scene(s));
+    const Image image = render(scene, options);
+    ASSERT_EQ(image.rgb.size(), reference.rgb.size());
+    int differ = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) differ += image.pixel(x, y) != reference.pixel(x, y);
+    EXPECT_LE(differ, image.width * image.height / 100);
+    const ShadowResult shadows = compute_shadows(scene, shadow_options);
+    double area = 0;
+    for (const FaceShadow& f : shadows.lights[0].faces) area += f.self_shadowed() ? 0 : f.shadow_area;
+    EXPECT_NEAR(area / (s * s), unit_area, 1e-9 * unit_area);
+  }
+}
+
 TEST(RasterImage, PngRoundTripAndAtomicWrite) {
   const fs::path dir = fs::temp_directory_path() / "hedra_raster_png";
   fs::create_directories(dir);

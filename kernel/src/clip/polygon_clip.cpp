@@ -276,7 +276,9 @@ bool clip_convex_polygon_open(const Polygon3& polygon, const ConvexClipper& clip
     side.resize(n);
     size_t pos = 0, neg = 0;
     for (size_t i = 0; i < n; ++i) {
-      side[i] = side_of_plane(f, out[i]);
+      // side_of_plane(f, p) with its static filter inline (the common case, no call).
+      const Vec3& p = out[i];
+      side[i] = side_of_plane(f, p, f.value(p), f.error_bound(p.cwiseAbs().maxCoeff()));
       pos += side[i] == Sign::Positive;
       neg += side[i] == Sign::Negative;
     }

@@ -344,13 +344,21 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
 
   // Stage: volume, area, centroid from the triangles (divergence theorem about the bbox
   // centre, which keeps the products small for bodies far from the origin).
+  // The moments are fourth powers of the coordinates: they are summed over coordinates scaled
+  // by one power of two (exact) to the unit, so that they neither overflow for a body 1e100
+  // across nor underflow for one 1e-100 across.
   const Vec3 o = impl->bbox.center();
-  double volume6 = 0;
+  int exponent = 0;
+  std::frexp(std::max(impl->bbox.diagonal().maxCoeff(), std::numeric_limits<double>::min()), &exponent);
+  const double unit = std::ldexp(1.0, -exponent);
+  double volume6 = 0, scaled_volume6 = 0;
   Vec3 moment = Vec3::Zero();
   for (const Triangle& t : impl->triangles) {
     Vec3 a = vertices[t.v[0]] - o, b = vertices[t.v[1]] - o, c = vertices[t.v[2]] - o;
-    double v6 = a.dot(b.cross(c));
-    volume6 += v6;
+    volume6 += a.dot(b.cross(c));
+    a *= unit, b *= unit, c *= unit;
+    const double v6 = a.dot(b.cross(c));
+    scaled_volume6 += v6;
     moment += v6 * (a + b + c);
   }
   for (double fa : impl->face_areas) impl->area += fa;
@@ -374,7 +382,7 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   if (!(impl->volume > 0))
     throw InvalidInput("faces are oriented inwards (signed volume " + fmt(impl->volume) +
                        "): every face must run counter-clockwise seen from outside");
-  impl->centroid = o + moment / (4 * volume6);
+  impl->centroid = o + std::ldexp(1.0, exponent) * (moment / (4 * scaled_volume6));
 
   impl->vertices = std::move(vertices);
   impl->faces = std::move(faces);

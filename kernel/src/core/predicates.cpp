@@ -95,7 +95,20 @@ Sign orient2d(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 Sign side_of_plane(const Plane& plane, const Vec3& p) {
   const Vec4& k = plane.coefficients;
-  // Filter: interval arithmetic decides almost always.
+  // Static filter first (no change of the rounding mode, which costs more than the sum): the
+  // double sum of the four terms is within γ4·Σ|terms| of the exact value (Higham, eq. 3.5;
+  // no fused multiply-add, -ffp-contract=off), plus a few subnormal ulps when a product
+  // underflows. 2e-15 exceeds γ4 even for a directed rounding mode (unit 2u: γ4 ≈ 8.9e-16)
+  // and covers the rounding of the bound itself; an overflow makes the bound infinite or the
+  // value NaN, and both fall through.
+  {
+    const double a = k[0] * p.x(), b = k[1] * p.y(), c = k[2] * p.z();
+    const double v = ((a + b) + c) + k[3];
+    const double bound = 2e-15 * (((std::abs(a) + std::abs(b)) + std::abs(c)) + std::abs(k[3])) + 1e-300;
+    if (v > bound) return Sign::Positive;
+    if (v < -bound) return Sign::Negative;
+  }
+  // Interval arithmetic decides almost always.
   {
     CGAL::Protect_FPU_rounding<true> guard;
     using I = CGAL::Interval_nt_advanced;
@@ -267,15 +280,19 @@ ExactPlane ExactPlane::build(const Vec3& a, const Vec3& b, const Vec3& c, bool d
     rad[i] = radius(lo[i], hi[i], mid[i]);
   }
   const int e = std::ilogb(std::max({std::abs(mid[0]), std::abs(mid[1]), std::abs(mid[2])}));
+  // x·2^-e: one multiplication by the power of two when it is a normal double (the same
+  // correctly rounded result as std::ldexp, without a library call per coefficient).
+  const double power = e > -1000 && e < 1000 ? std::ldexp(1.0, -e) : 0;
+  const auto scaled = [&](double x) { return power != 0 ? x * power : std::ldexp(x, -e); };
   double slope = 0;
   for (int i = 0; i < 3; ++i) {
     // Scaling by 2^-e is exact except in the subnormal range (half an ulp there: kTiny).
-    f.n_[i] = std::ldexp(mid[i], -e);
-    const double r = std::ldexp(rad[i], -e) * (1 + 2 * kUnit) + kTiny;
+    f.n_[i] = scaled(mid[i]);
+    const double r = scaled(rad[i]) * (1 + 2 * kUnit) + kTiny;
     slope += gamma_n(4) * std::abs(f.n_[i]) + r;
   }
-  f.k_ = std::ldexp(mid[3], -e);
-  const double rk = std::ldexp(rad[3], -e) * (1 + 2 * kUnit) + kTiny;
+  f.k_ = scaled(mid[3]);
+  const double rk = scaled(rad[3]) * (1 + 2 * kUnit) + kTiny;
   f.slope_ = slope * kBoundInflation;
   f.offset_ = (gamma_n(4) * std::abs(f.k_) + rk + 8 * kTiny) * kBoundInflation;
   if (!std::isfinite(f.k_) || !std::isfinite(f.slope_) || !std::isfinite(f.offset_))

@@ -83,6 +83,7 @@ class Certificate {
     const int n = body_.face_count();
     first_piece_.assign(static_cast<size_t>(n), -1);
     split_.assign(static_cast<size_t>(n), 0);
+    pieces_.reserve(static_cast<size_t>(n));
     for (int f = 0; f < n; ++f) {
       const Face& face = faces_[static_cast<size_t>(f)];
       const auto& s = body_.support(f);

@@ -44,6 +44,25 @@ bool segment_meets_box(const Vec2& a, const Vec2& b, const Eigen::AlignedBox2d& 
   return pos > 0 && neg > 0;
 }
 
+// orient3d(a, b, c, d) with Shewchuk's static filter first (his bound for the double
+// determinant of the rounded differences is (7 + 56ε)ε times the permanent; 1e-14 leaves a wide
+// margin), the exact predicate otherwise: most edges join faces far from coplanar.
+Sign orient_filtered(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
+               m2 = v.x() * w.y() - v.y() * w.x();
+  const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
+  const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
+                           std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
+                           std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
+  if (permanent > 1e-250 && permanent < 1e250) {
+    const double bound = 1e-14 * permanent;
+    if (det > bound) return Sign::Positive;
+    if (det < -bound) return Sign::Negative;
+  }
+  return orient3d(a, b, c, d);
+}
+
 }  // namespace
 
 HlrResult Roberts::run() {
@@ -65,6 +84,10 @@ HlrResult Roberts::run() {
       outline_of(static_cast<int>(b), scratch, outputs[b]);
     }
   });
+  size_t visible_total = 0, hidden_total = 0;
+  for (const EdgeOutput& o : outputs) visible_total += o.visible.size(), hidden_total += o.hidden.size();
+  result_.visible.reserve(visible_total);
+  result_.hidden.reserve(hidden_total);
   for (EdgeOutput& o : outputs) {
     result_.visible.insert(result_.visible.end(), o.visible.begin(), o.visible.end());
     result_.hidden.insert(result_.hidden.end(), o.hidden.begin(), o.hidden.end());
@@ -89,6 +112,14 @@ HlrResult Roberts::run() {
       for (const HlrSegment& s : o.classes)
         if (s.kind == kind) result_.visible.push_back(s);
   result_.smooth_listed = options_.smooth;
+  // The pieces' volumes freed on the workers: the destructor would free them one by one on
+  // the calling thread, a serial O(pieces) tail of every call.
+  parallel_blocks(pieces_.size(), 0, 64, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) {
+      pieces_[i].volume = OcclusionVolume();
+      std::vector<ExactPlane>().swap(pieces_[i].faces);
+    }
+  });
   return std::move(result_);
 }
 
@@ -100,25 +131,48 @@ void Roberts::check_view() {
   result_.picture_box.setEmpty();
   depth_range_ = Eigen::AlignedBox<double, 1>();
   depth_range_.setEmpty();
-  for (size_t b = 0; b < bodies_.size(); ++b) {
-    const Body& body = bodies_[b];
-    if (projection_.perspective()) {
-      if (body.bbox().contains(view_.point) && body.classify(view_.point) != Location::Outside)
-        throw InvalidInput(name(static_cast<int>(b)) + ": the perspective eye lies " +
-                           (body.classify(view_.point) == Location::Inside ? "inside" : "on") +
-                           " the body");
-      for (int v = 0; v < body.vertex_count(); ++v)
-        if (!(projection_.depth(body.vertices()[static_cast<size_t>(v)]) > 0))
-          throw InvalidInput(name(static_cast<int>(b)) + ": vertex " + std::to_string(v) +
-                             " is not in front of the perspective eye (hidden lines need the "
-                             "whole scene in front of it)");
+  // Bodies in parallel (every vertex is read: O(V) with V the scene's vertices), then the
+  // first error in body order and the union of the boxes, as a serial pass would give.
+  struct BodyView {
+    Eigen::AlignedBox2d box;
+    Eigen::AlignedBox<double, 1> depth;
+    std::string error;
+  };
+  std::vector<BodyView> per_body(bodies_.size());
+  parallel_blocks(bodies_.size(), 0, 16, [&](size_t begin, size_t end) {
+    for (size_t b = begin; b != end; ++b) {
+      const Body& body = bodies_[b];
+      BodyView& out = per_body[b];
+      out.box.setEmpty();
+      out.depth.setEmpty();
+      if (projection_.perspective()) {
+        if (body.bbox().contains(view_.point) && body.classify(view_.point) != Location::Outside) {
+          out.error = name(static_cast<int>(b)) + ": the perspective eye lies " +
+                      (body.classify(view_.point) == Location::Inside ? "inside" : "on") + " the body";
+          continue;
+        }
+        bool bad = false;
+        for (int v = 0; v < body.vertex_count() && !bad; ++v)
+          if (!(projection_.depth(body.vertices()[static_cast<size_t>(v)]) > 0)) {
+            out.error = name(static_cast<int>(b)) + ": vertex " + std::to_string(v) +
+                        " is not in front of the perspective eye (hidden lines need the "
+                        "whole scene in front of it)";
+            bad = true;
+          }
+        if (bad) continue;
+      }
+      for (const Vec3& p : body.vertices()) {
+        out.box.extend(projection_.project(p));
+        Eigen::Matrix<double, 1, 1> d;
+        d << projection_.depth(p);
+        out.depth.extend(d);
+      }
     }
-    for (const Vec3& p : body.vertices()) {
-      result_.picture_box.extend(projection_.project(p));
-      Eigen::Matrix<double, 1, 1> d;
-      d << projection_.depth(p);
-      depth_range_.extend(d);
-    }
+  });
+  for (const BodyView& v : per_body) {
+    if (!v.error.empty()) throw InvalidInput(v.error);
+    if (!v.box.isEmpty()) result_.picture_box.extend(v.box);
+    if (!v.depth.isEmpty()) depth_range_.extend(v.depth);
   }
   if (result_.picture_box.isEmpty()) result_.picture_box.extend(Vec2::Zero());
   const double extent = std::max(result_.picture_box.sizes().maxCoeff(),
@@ -316,7 +370,7 @@ void Roberts::build_index() {
   by_near_.resize(pieces_.size());
   std::iota(by_near_.begin(), by_near_.end(), 0);
   std::sort(by_near_.begin(), by_near_.end(), [&](int x, int y) {
-    const double nx = pieces_[static_cast<size_t>(x)].near, ny = pieces_[static_cast<size_t>(y)].near;
+    const double nx = occluder_near_[static_cast<size_t>(x)], ny = occluder_near_[static_cast<size_t>(y)];
     return nx < ny || (nx == ny && x < y);
   });
   near_rank_.resize(pieces_.size());
@@ -325,7 +379,7 @@ void Roberts::build_index() {
 
 void Roberts::near_first(std::vector<int>& ids, Scratch& scratch) const {
   const int pieces = static_cast<int>(pieces_.size());
-  const auto facet_start = std::stable_partition(ids.begin(), ids.end(), [&](int id) { return id < pieces; });
+  const auto facet_start = facets_.empty() ? ids.end() : std::stable_partition(ids.begin(), ids.end(), [&](int id) { return id < pieces; });
   const size_t k = static_cast<size_t>(facet_start - ids.begin());
   if (k < 2) return;
   if (k * 16 < pieces_.size()) {
@@ -355,6 +409,12 @@ void Roberts::candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::ve
     for (int id = 0; id < static_cast<int>(occluder_count_); ++id) consider(id);
     return;
   }
+  if (scratch.use_body_ids) {
+    // The same set as the grid walk below: an occluder meeting the segment meets the body's
+    // picture box, and the per-edge tests are the same.
+    for (int id : scratch.body_ids) consider(id);
+    return;
+  }
   if (scratch.stamp.size() != occluder_count_) scratch.stamp.assign(occluder_count_, 0);
   const unsigned stamp = ++scratch.current;
   Eigen::AlignedBox2d box(a2.cwiseMin(b2), a2.cwiseMax(b2));
@@ -363,6 +423,37 @@ void Roberts::candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::ve
     scratch.stamp[static_cast<size_t>(id)] = stamp;
     consider(id);
   });
+}
+
+void Roberts::body_candidates(int b, Scratch& scratch) const {
+  scratch.use_body_ids = false;
+  scratch.body_ids.clear();
+  // Facets keep the grid's visit order of the per-edge search (the exact path reads them in
+  // that order); the reference paths have no grid.
+  if (!options_.spatial_index || options_.stage2 == HlrOptions::Stage2::BruteForce || !facets_.empty()) return;
+  const Body& body = bodies_[static_cast<size_t>(b)];
+  Eigen::AlignedBox2d box;
+  box.setEmpty();
+  double far = -INFINITY;
+  for (const Vec3& p : body.vertices()) {
+    box.extend(projection_.project(p));
+    far = std::max(far, projection_.depth(p));
+  }
+  // A body over many cells (a ground slab, a large mesh) would give each of its edges a long
+  // list: its edges walk the grid themselves.
+  if (grid_.covered(box) > 16) return;
+  if (scratch.stamp.size() != occluder_count_) scratch.stamp.assign(occluder_count_, 0);
+  const unsigned stamp = ++scratch.current;
+  grid_.visit(box, [&](int id) {
+    if (scratch.stamp[static_cast<size_t>(id)] == stamp) return;
+    scratch.stamp[static_cast<size_t>(id)] = stamp;
+    // Necessary conditions of candidates()' tests for any edge of the body: nearer than the
+    // edge's far end (≤ the body's) and a box that meets the edge's box (⊂ the body's).
+    if (occluder_near_[static_cast<size_t>(id)] >= far) return;
+    if (!occluder_box_[static_cast<size_t>(id)].intersects(box)) return;
+    scratch.body_ids.push_back(id);
+  });
+  scratch.use_body_ids = true;
 }
 
 bool Roberts::end_on(const Vec3& a, const Vec3& b) const {
@@ -424,6 +515,7 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
   const Body& body = bodies_[static_cast<size_t>(b)];
   const HlrBody& bd = data_[static_cast<size_t>(b)];
   const auto& v = body.vertices();
+  body_candidates(b, scratch);
   for (int e = 0; e < body.edge_count(); ++e) {
     if ((e & 63) == 63) meter_.add(64);  // HlrOptions::progress
     const Edge& edge = body.edges()[static_cast<size_t>(e)];
@@ -432,8 +524,8 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     const auto& sl = body.support(edge.left_face);
     bool coplanar = true;
     for (int k : body.support(edge.right_face))
-      coplanar = coplanar && orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
-                                           v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
+      coplanar = coplanar && orient_filtered(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
+                                                  v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
     // A two-sided face's edges join its two faces, which share one plane: all are drawn.
     if ((coplanar && !body.two_sided()) || end_on(p1, p2)) continue;
     // A smooth edge is drawn only when asked, as its own kind.
@@ -473,6 +565,7 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
                     LineKind::Edge, b, -1, e);
     }
   }
+  scratch.use_body_ids = false;
 }
 
 bool Roberts::outline_on_piece(const HlrPiece& p, const Vec3& n, const Vec3& a, const Vec3& b) const {

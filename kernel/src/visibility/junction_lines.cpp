@@ -16,16 +16,19 @@ const std::vector<std::pair<int, int>>& Roberts::touching_pairs() {
 }
 
 std::vector<std::pair<int, int>> Roberts::find_touching_pairs() const {
+  // The boxes copied once into one array (the sort and the sweep read them many times).
+  std::vector<Eigen::AlignedBox3d> boxes(bodies_.size());
+  for (size_t b = 0; b < bodies_.size(); ++b) boxes[b] = bodies_[b].bbox();
   std::vector<int> order(bodies_.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int x, int y) {
-    return bodies_[static_cast<size_t>(x)].bbox().min().x() < bodies_[static_cast<size_t>(y)].bbox().min().x();
+    return boxes[static_cast<size_t>(x)].min().x() < boxes[static_cast<size_t>(y)].min().x();
   });
   std::vector<std::pair<int, int>> out;
   for (size_t i = 0; i < order.size(); ++i) {
-    const auto& bi = bodies_[static_cast<size_t>(order[i])].bbox();
+    const auto& bi = boxes[static_cast<size_t>(order[i])];
     for (size_t j = i + 1; j < order.size(); ++j) {
-      const auto& bj = bodies_[static_cast<size_t>(order[j])].bbox();
+      const auto& bj = boxes[static_cast<size_t>(order[j])];
       if (bj.min().x() > bi.max().x()) break;
       if (bi.intersects(bj)) out.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
     }
@@ -112,6 +115,7 @@ const std::vector<ExactPlane>& Roberts::body_planes(int b) {
 }
 
 void Roberts::junctions() {
+  if (touching_pairs().empty()) return;
   const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
   Scratch scratch;
   std::vector<int> ids;

@@ -61,6 +61,20 @@ class PictureGrid {
 
   int cells() const { return nx_ * ny_; }
 
+  // The number of cells `box` covers (0 for an empty box).
+  long long covered(const Eigen::AlignedBox2d& box) const {
+    long long n = 0;
+    if (!box.isEmpty()) {
+      const auto index = [&](double v, double o, int count) {
+        const double c = std::floor((v - o) * inv_);
+        return c < 0 ? 0 : (c >= count ? count - 1 : static_cast<int>(c));
+      };
+      n = static_cast<long long>(index(box.max().x(), origin_.x(), nx_) - index(box.min().x(), origin_.x(), nx_) + 1) *
+          (index(box.max().y(), origin_.y(), ny_) - index(box.min().y(), origin_.y(), ny_) + 1);
+    }
+    return n;
+  }
+
  private:
   template <class F>
   void visit_cells(const Eigen::AlignedBox2d& box, F&& f) const {
@@ -157,7 +171,18 @@ class Roberts {
     std::vector<TInterval> visible, gaps;
     std::vector<unsigned> mark;  // near_first(): pieces among the candidates
     unsigned mark_current = 0;
+    // edges_of(): the occluders that may hide some edge of the current body (body_candidates),
+    // which candidates() then filters per edge instead of walking the grid again.
+    std::vector<int> body_ids;
+    bool use_body_ids = false;
   };
+
+  // The occluders whose picture box meets body b's and that are nearer than its farthest
+  // vertex: a superset of the candidates of each of its edges (an edge's picture box lies in
+  // the body's), found with one walk of the grid per body instead of one per edge. Sets
+  // scratch.use_body_ids when it applies (spatial index on, no internal facets, a body that
+  // covers a few cells: a large body's edges walk the grid each, so that they keep O(k) tests).
+  void body_candidates(int b, Scratch& scratch) const;
 
   // Orders the piece ids of `ids` nearest first (facet ids after them, in their order): a piece
   // that hides a whole segment ends its test early. O(k log k) for k candidates, or O(P) by a

@@ -22,6 +22,7 @@ void convex_parts(const Body& body, int f, ShadowFace& fd) {
   const auto& v = body.vertices();
   auto ring2d = [&](const std::vector<int>& ids) {
     Ring2 r;
+    r.reserve(ids.size());
     for (int id : ids) r.push_back(drop(v[static_cast<size_t>(id)], fd.axis));
     if (fd.flip) std::reverse(r.begin(), r.end());
     return r;
@@ -85,6 +86,7 @@ ShadowFace make_face(const Body& body, int f) {
   const Face& face = body.faces()[static_cast<size_t>(f)];
   fd.anchor = body.vertices()[static_cast<size_t>(face.loops[0][0])];
   fd.box = Eigen::AlignedBox3d();
+  fd.corners.reserve(face.loops[0].size());
   for (int id : face.loops[0]) {
     fd.corners.push_back(body.vertices()[static_cast<size_t>(id)]);
     fd.box.extend(fd.corners.back());
@@ -100,6 +102,7 @@ ShadowFace make_face(const Body& body, int f) {
 bool to_convex_ring(const ShadowFace& fd, const Polygon3& poly, Ring2& ring) {
   ring = fd.project(poly);
   Ring2 r;
+  r.reserve(ring.size());
   for (const Vec2& p : ring)
     if (r.empty() || r.back() != p) r.push_back(p);
   while (r.size() > 1 && r.front() == r.back()) r.pop_back();

@@ -102,6 +102,7 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     bd.faces.reserve(static_cast<size_t>(bd.body.face_count()));
     for (int f = 0; f < bd.body.face_count(); ++f) bd.faces.push_back(make_face(bd.body, f));
     std::vector<ExactPlane> planes;
+    planes.reserve(bd.faces.size());
     for (const ShadowFace& fd : bd.faces) planes.push_back(fd.plane);
     bd.convex = bd.body.two_sided() || is_convex(bd.body);  // a two-sided face: one piece
     if (bd.convex) {

@@ -16,9 +16,11 @@ constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 /// transform leaves (a few ulps), far below anything a modeler would call a real bend.
 constexpr double kRoundingPlanarity = 64 * kEpsilon;
 
-/// Largest accepted |coordinate|. Volumes are cubes of coordinates and must stay finite
-/// in double (1e300 would overflow), so bodies beyond this are rejected as invalid input.
-constexpr double kMaxAbsCoordinate = 1e75;
+/// Largest accepted |coordinate|. Volumes are cubes of coordinates and must stay finite in
+/// double: a bounding box (2e101)³ = 8e303 and sums of a few such terms do, 1e103 would not.
+/// Products of higher degree (the centroid's moments, the predicates' filters) scale by powers
+/// of two or fall back to exact arithmetic, so bodies from 1e-100 to 1e100 across work.
+constexpr double kMaxAbsCoordinate = 1e101;
 
 /// Default relative tolerance for the course's translate-and-rotate convexity test
 /// (docs/algorithms.md §5.1), which runs in floating point (it is the reference formulation, not
