@@ -322,7 +322,7 @@ TEST(PolyhedronClipper, LPrismDegenerateCases) {
         << text(c.p1, c.p2);
   }
   EXPECT_THROW(clip_segment(l, {0, 0, NAN}, {1, 1, 1}), InvalidInput);
-  EXPECT_THROW(clip_segment(l, {0, 0, 1e80}, {1, 1, 1}), InvalidInput);
+  EXPECT_THROW(clip_segment(l, {0, 0, 1e110}, {1, 1, 1}), InvalidInput);  // beyond kMaxAbsCoordinate
 }
 
 // The oracle is not vacuous: it rejects a missing part, a part too long and a spurious one.

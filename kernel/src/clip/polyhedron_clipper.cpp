@@ -23,7 +23,7 @@ void check_point(const Vec3& p) {
   if (p.allFinite() && p.cwiseAbs().maxCoeff() <= kMaxAbsCoordinate) return;
   char buf[160];
   std::snprintf(buf, sizeof buf, "segment end point (%.17g, %.17g, %.17g) %s", p.x(), p.y(), p.z(),
-                p.allFinite() ? "is beyond ±1e75" : "is not finite");
+                p.allFinite() ? "is beyond ±1e101" : "is not finite");
   throw InvalidInput(buf);
 }
 
