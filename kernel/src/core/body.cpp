@@ -1,6 +1,7 @@
 #include "hedra/core/body.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cmath>
 #include <limits>
@@ -31,6 +32,8 @@ struct Body::Impl {
   double area = 0;
   Vec3 centroid = Vec3::Zero();
   bool two_sided = false;
+  // is_convex()'s verdict, decided on first use (−1: not yet).
+  mutable std::atomic<int> convexity{-1};
 };
 
 namespace {
@@ -465,6 +468,12 @@ Body Body::transformed(const Transform& t) const {
 }
 
 bool Body::two_sided() const { return impl_->two_sided; }
+
+int Body::convexity_memo() const { return impl_->convexity.load(std::memory_order_relaxed); }
+
+void Body::set_convexity_memo(bool convex) const {
+  impl_->convexity.store(convex ? 1 : 0, std::memory_order_relaxed);
+}
 
 Body Body::two_sided_polygon(std::vector<Vec3> polygon) {
   const int n = static_cast<int>(polygon.size());

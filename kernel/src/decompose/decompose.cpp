@@ -60,9 +60,45 @@ std::vector<Reflex> reflex_edges(const Context& ctx, const Piece& piece) {
   return out;
 }
 
+// Pieces with at most this many candidate planes weigh every candidate (choose_cut).
+constexpr size_t kExhaustiveCandidates = 64;
+// Otherwise this many are weighed: half the best by symbolic count, half spread over id order.
+constexpr size_t kSampledCandidates = 16;
+
+struct CutScore {
+  int resolved = -1;  // reflex edges lying on the plane
+  int larger = 0;     // reflex edges off the plane on its fuller side (sampled choice only)
+  int crossed = 0;    // triangles with corners strictly on both sides
+};
+
+CutScore score_cut(const Context& ctx, const Piece& piece, const std::vector<Reflex>& reflex, int c,
+                   std::vector<int>& s) {
+  for (size_t i = 0; i < piece.pts.size(); ++i) s[i] = side(ctx, piece.pts[i], c);
+  CutScore out;
+  out.resolved = 0;
+  int below = 0, above = 0;
+  for (const Reflex& r : reflex) {
+    out.resolved += s[r.a] == 0 && s[r.b] == 0;
+    below += s[r.a] < 0 || s[r.b] < 0;
+    above += s[r.a] > 0 || s[r.b] > 0;
+  }
+  out.larger = std::max(below, above);
+  for (const Tri& t : piece.tris) {
+    const int lo = std::min({s[t.v[0]], s[t.v[1]], s[t.v[2]]});
+    const int hi = std::max({s[t.v[0]], s[t.v[1]], s[t.v[2]]});
+    out.crossed += lo < 0 && hi > 0;
+  }
+  return out;
+}
+
 // The plane on which the most reflex edges lie, then crossing the fewest triangles, then the
 // smallest id: decided by exact sides and input order only, so rotating the body changes
-// nothing.
+// nothing. Cost O(C·(V + T + R)) for C candidate planes. A piece with more than
+// kExhaustiveCandidates candidates (a star prism has one per reflex edge) weighs
+// kSampledCandidates of them — those lying on the most reflex edges by construction (symbolic,
+// O(R)) and others spread over id order — and prefers among equal counts the plane that leaves
+// the fewest reflex edges on its fuller side: the cuts halve such pieces, so the rounds are
+// O(log R) deep and each costs O(V + T + R) per piece instead of O(R·(V + T)).
 int choose_cut(const Context& ctx, const Piece& piece, const std::vector<Reflex>& reflex) {
   std::vector<int> candidates;
   for (const Reflex& r : reflex) {
@@ -71,24 +107,42 @@ int choose_cut(const Context& ctx, const Piece& piece, const std::vector<Reflex>
   }
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
-  int best = -1, best_resolved = -1, best_crossed = 0;
+  const bool sampled = candidates.size() > kExhaustiveCandidates;
+  if (sampled) {
+    std::vector<int> count(candidates.size(), 0);
+    std::vector<int> common;
+    for (const Reflex& r : reflex) {
+      const auto &a = piece.pts[r.a].on, &b = piece.pts[r.b].on;
+      common.clear();
+      std::set_intersection(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(common));
+      for (int q : common) {
+        auto it = std::lower_bound(candidates.begin(), candidates.end(), q);
+        if (it != candidates.end() && *it == q) ++count[static_cast<size_t>(it - candidates.begin())];
+      }
+    }
+    std::vector<size_t> order(candidates.size());
+    std::iota(order.begin(), order.end(), size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return count[x] > count[y]; });
+    std::vector<int> chosen;
+    for (size_t k = 0; k < kSampledCandidates / 2; ++k) chosen.push_back(candidates[order[k]]);
+    const size_t spread = kSampledCandidates - kSampledCandidates / 2;
+    for (size_t k = 0; k < spread; ++k) chosen.push_back(candidates[(2 * k + 1) * candidates.size() / (2 * spread)]);
+    std::sort(chosen.begin(), chosen.end());
+    chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+    candidates = std::move(chosen);
+  }
+  int best = -1;
+  CutScore top;
   std::vector<int> s(piece.pts.size());
   for (int c : candidates) {
-    for (size_t i = 0; i < piece.pts.size(); ++i) s[i] = side(ctx, piece.pts[i], c);
-    int resolved = 0, crossed = 0;
-    for (const Reflex& r : reflex) resolved += s[r.a] == 0 && s[r.b] == 0;
-    for (const Tri& t : piece.tris) {
-      const int lo = std::min({s[t.v[0]], s[t.v[1]], s[t.v[2]]});
-      const int hi = std::max({s[t.v[0]], s[t.v[1]], s[t.v[2]]});
-      crossed += lo < 0 && hi > 0;
-    }
-    if (resolved > best_resolved || (resolved == best_resolved && crossed < best_crossed)) {
-      best = c;
-      best_resolved = resolved;
-      best_crossed = crossed;
-    }
+    const CutScore score = score_cut(ctx, piece, reflex, c, s);
+    bool better;
+    if (score.resolved != top.resolved) better = score.resolved > top.resolved;
+    else if (sampled && score.larger != top.larger) better = score.larger < top.larger;
+    else better = score.crossed < top.crossed;
+    if (better) best = c, top = score;
   }
-  HEDRA_ASSERT(best_resolved > 0, "decompose: no cut resolves a reflex edge");
+  HEDRA_ASSERT(top.resolved > 0, "decompose: no cut resolves a reflex edge");
   return best;
 }
 
@@ -508,8 +562,16 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
         return;
       }
       Sides sides = split_or_retry(ctx, open[i], reflex);
-      for (Piece& p : sides.below) next[i].push_back(std::move(p));
-      for (Piece& p : sides.above) next[i].push_back(std::move(p));
+      // The exact pieces drop the points the cut left on straight runs and inside faces, so
+      // that a piece's size stays its own complexity rather than its ancestors' cuts'.
+      for (Piece& p : sides.below) {
+        if (!ctx.floating && ctx.simplify) simplify(ctx, p);
+        next[i].push_back(std::move(p));
+      }
+      for (Piece& p : sides.above) {
+        if (!ctx.floating && ctx.simplify) simplify(ctx, p);
+        next[i].push_back(std::move(p));
+      }
     });
     std::vector<Piece> still_open;
     for (size_t i = 0; i < open.size(); ++i) {
@@ -574,14 +636,22 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
   // ("the plane of a reflex edge does not cut its piece"). Then the input itself is
   // decomposed: exact planes of its triangles, every side the exact predicate, which cannot
   // contradict itself and so never fails on a valid body.
-  try {
-    Context ctx;
-    Decomposition out = run(body, options, ctx);
-    if (!options.verify || out.verified) return out;
-  } catch (const InternalError&) {
+  // Before both, the same with pieces simplified after every cut (simplify(): what makes
+  // inputs with many reflex edges near-linear). Where that run fails (so far only on
+  // self-touching slivers of rotated float32 soups), the two runs without it follow, so the
+  // outcome is never worse than without simplification.
+  for (bool simplified : {true, false}) {
+    try {
+      Context ctx;
+      ctx.simplify = simplified;
+      Decomposition out = run(body, options, ctx);
+      if (!options.verify || out.verified) return out;
+    } catch (const InternalError&) {
+    }
   }
   Context ctx;
   ctx.exact_planes = true;
+  ctx.simplify = false;
   return run(body, options, ctx);
 }
 

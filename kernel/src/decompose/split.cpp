@@ -10,12 +10,15 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
+#include <tuple>
 #include <numeric>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "decompose/split_internal.h"
 #include "hedra/core/error.h"
+#include "hedra/core/predicates.h"
 #include "hedra/core/tolerance.h"
 #include "hedra/mesh/merge_coplanar.h"
 
@@ -39,10 +42,12 @@ int side(const Context& ctx, const Point& pt, int id) {
   return s == CGAL::ON_POSITIVE_SIDE ? 1 : -1;
 }
 
-void add_on(Point& pt, int id) {
-  auto it = std::lower_bound(pt.on.begin(), pt.on.end(), id);
-  if (it == pt.on.end() || *it != id) pt.on.insert(it, id);
+void add_on_sorted(std::vector<int>& ids, int id) {
+  auto it = std::lower_bound(ids.begin(), ids.end(), id);
+  if (it == ids.end() || *it != id) ids.insert(it, id);
 }
+
+void add_on(Point& pt, int id) { add_on_sorted(pt.on, id); }
 
 // ---- From a body ---------------------------------------------------------------------------
 
@@ -160,6 +165,7 @@ Piece piece_of(const Body& body, Context& ctx) {
   ctx.guard = std::max(ctx.guard, kRoundingPlanarity * body.scale());
   const auto& v = body.vertices();
   std::vector<int> group(body.face_count(), -1), sign(body.face_count(), 1);
+  std::unordered_map<int, int> creator;  // canonical plane made here -> the face it came from
   for (int f = 0; f < body.face_count(); ++f) {
     const Plane outward = body.plane(f).flipped();
     // A plane that has the face's support triangle within the guard turns from the face's
@@ -191,6 +197,7 @@ Piece piece_of(const Body& body, Context& ctx) {
                               P3(v[s[1]].x(), v[s[1]].y(), v[s[1]].z()),
                               P3(v[s[2]].x(), v[s[2]].y(), v[s[2]].z()));
       ctx.approx.push_back(outward);
+      creator.emplace(group[f], f);
     }
   }
   Piece piece;
@@ -200,9 +207,26 @@ Piece piece_of(const Body& body, Context& ctx) {
     piece.pts[i].origin = static_cast<int>(i);
     piece.pts[i].input = v[i];
   }
-  for (int f = 0; f < body.face_count(); ++f)
+  for (int f = 0; f < body.face_count(); ++f) {
+    // Exactly on the canonical plane: the plane is its creator face's support plane and the
+    // exact orient3d of the support triple and the vertex is zero. Otherwise only within the
+    // guard (a coplanar-within-rounding face), recorded as loose.
+    auto it = creator.find(group[f]);
     for (const auto& loop : body.faces()[f].loops)
-      for (int w : loop) add_on(piece.pts[w], group[f]);
+      for (int w : loop) {
+        Point& pt = piece.pts[w];
+        if (std::binary_search(pt.on.begin(), pt.on.end(), group[f])) continue;
+        add_on(pt, group[f]);
+        bool exact_on;
+        if (it != creator.end()) {
+          const auto& s = body.support(it->second);
+          exact_on = orient3d(v[s[0]], v[s[1]], v[s[2]], v[w]) == Sign::Zero;
+        } else {
+          exact_on = ctx.planes[group[f]].oriented_side(pt.p) == CGAL::ON_ORIENTED_BOUNDARY;
+        }
+        if (!exact_on) add_on_sorted(pt.loose, group[f]);
+      }
+  }
   for (const Triangle& t : body.triangles()) piece.tris.push_back({t.v, group[t.face], sign[t.face]});
   return piece;
 }
@@ -260,47 +284,53 @@ using Fb = CGAL::Triangulation_face_base_with_info_2<int, EK, Fb0>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using Cdt = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
+using Ct = CGAL::Constrained_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
+
 // Triangles (counter-clockwise around the plane's normal) filling the region of the plane
-// bounded by the given segments (point ids), by parity of constrained edges crossed.
-std::vector<std::array<int, 3>> cap_triangles(const Context& ctx, int plane,
-                                              const std::vector<Point>& pts,
-                                              const std::vector<std::pair<int, int>>& segments) {
+// bounded by the given segments (point ids), by parity of constrained edges crossed. Tr is the
+// constrained Delaunay triangulation (caps) or the plain constrained one (re-triangulated
+// faces: orientation tests only, no in-circle tests on nearly cocircular corners).
+template <class Tr>
+std::vector<std::array<int, 3>> fill_region(const Context& ctx, int plane, const std::vector<Point>& pts,
+                                            const std::vector<std::pair<int, int>>& segments) {
   const EK::Vector_3 n = ctx.planes[plane].orthogonal_vector();
   const Vec3 approx(CGAL::to_double(n.x()), CGAL::to_double(n.y()), CGAL::to_double(n.z()));
   int axis;
   approx.cwiseAbs().maxCoeff(&axis);
   int u = (axis + 1) % 3, w = (axis + 2) % 3;
   if (CGAL::is_negative(n[axis])) std::swap(u, w);
-  Cdt cdt;
-  std::unordered_map<int, Cdt::Vertex_handle> handle;
+  Tr cdt;
+  std::unordered_map<int, typename Tr::Vertex_handle> handle;
   auto vertex = [&](int id) {
     auto it = handle.find(id);
     if (it != handle.end()) return it->second;
-    Cdt::Vertex_handle h = cdt.insert(EK::Point_2(pts[id].p[u], pts[id].p[w]));
+    typename Tr::Vertex_handle h = cdt.insert(EK::Point_2(pts[id].p[u], pts[id].p[w]));
     h->info() = id;
     handle.emplace(id, h);
     return h;
   };
   try {
     for (const auto& [a, b] : segments) {
-      const Cdt::Vertex_handle va = vertex(a), vb = vertex(b);
+      const typename Tr::Vertex_handle va = vertex(a), vb = vertex(b);
       // Only the floating-point variant's rounded cut points can coincide (exact points made
       // by a cut are strictly inside their edge): a zero-length boundary edge, on which CGAL's
       // constraint insertion would crash.
       if (va == vb) HEDRA_UNREACHABLE("split: the cut's boundary has a zero-length edge");
       cdt.insert_constraint(va, vb);
     }
-  } catch (const Cdt::Intersection_of_constraints_exception&) {
+  } catch (const typename Tr::Intersection_of_constraints_exception&) {
     HEDRA_UNREACHABLE("split: the cut's boundary crosses itself");
   }
+  // Corners all on one line (a cap of no area, only from a degenerate boundary): no 2D faces.
+  if (cdt.dimension() < 2) HEDRA_UNREACHABLE("split: the cut's boundary encloses no area");
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
-  std::list<Cdt::Face_handle> queue{cdt.infinite_face()};
+  std::list<typename Tr::Face_handle> queue{cdt.infinite_face()};
   cdt.infinite_face()->info() = 0;
   while (!queue.empty()) {
-    Cdt::Face_handle f = queue.front();
+    typename Tr::Face_handle f = queue.front();
     queue.pop_front();
     for (int i = 0; i < 3; ++i) {
-      Cdt::Face_handle g = f->neighbor(i);
+      typename Tr::Face_handle g = f->neighbor(i);
       if (g->info() != -1) continue;
       g->info() = cdt.is_constrained({f, i}) ? 1 - f->info() : f->info();
       queue.push_back(g);
@@ -310,6 +340,138 @@ std::vector<std::array<int, 3>> cap_triangles(const Context& ctx, int plane,
   for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f)
     if (f->info() == 1)
       out.push_back({f->vertex(0)->info(), f->vertex(1)->info(), f->vertex(2)->info()});
+  return out;
+}
+
+std::vector<std::array<int, 3>> cap_triangles(const Context& ctx, int plane, const std::vector<Point>& pts,
+                                              const std::vector<std::pair<int, int>>& segments) {
+  return fill_region<Cdt>(ctx, plane, pts, segments);
+}
+
+// Planes a and b are parallel (or the same). Exact.
+bool parallel_planes(const Context& ctx, int a, int b) {
+  return CGAL::cross_product(ctx.planes[a].orthogonal_vector(), ctx.planes[b].orthogonal_vector()) ==
+         CGAL::NULL_VECTOR;
+}
+
+// Whether b lies strictly between a and c on a straight run of a cap on `plane`: all three lie
+// exactly on `plane` and, by construction and exactly (not loose), on another canonical plane
+// not parallel to it — so on one line — and b is strictly between a and c along it.
+bool inside_run(const Context& ctx, int plane, const Point& a, const Point& b, const Point& c) {
+  auto exact_on = [](const Point& p, int q) {
+    return std::binary_search(p.on.begin(), p.on.end(), q) && !std::binary_search(p.loose.begin(), p.loose.end(), q);
+  };
+  if (!exact_on(a, plane) || !exact_on(b, plane) || !exact_on(c, plane)) return false;
+  for (int q : b.on) {
+    if (q == plane || !exact_on(a, q) || !exact_on(b, q) || !exact_on(c, q)) continue;
+    if (!parallel_planes(ctx, plane, q)) return CGAL::collinear_are_strictly_ordered_along_line(a.p, b.p, c.p);
+  }
+  return false;
+}
+
+// The cap of an exact cut. Where the cut crosses a face made of many triangles, its boundary
+// has long straight runs of cut points (all on the line where the cut meets that face's
+// plane, known symbolically); triangulating them point by point costs exact in-circle and
+// orientation tests on collinear points. Instead the loops are reduced to their corners, the
+// corners triangulated (constrained Delaunay), and each run fanned into the cap triangle on
+// its edge: from the opposite corner when it is that triangle's only edge with a run, else
+// from the triangle's centroid (a point inside the cap face, which simplify() removes
+// again). Falls back to cap_triangles() where the boundary is not simple loops. Appends
+// centroids to pts.
+std::vector<std::array<int, 3>> chained_cap(const Context& ctx, int plane, std::vector<Point>& pts,
+                                            const std::vector<std::pair<int, int>>& segments) {
+  std::unordered_map<int, int> next, prev;
+  for (const auto& [a, b] : segments)
+    if (!next.emplace(a, b).second || !prev.emplace(b, a).second) return cap_triangles(ctx, plane, pts, segments);
+  std::vector<int> starts;
+  for (const auto& [a, b] : segments) starts.push_back(a);
+  std::sort(starts.begin(), starts.end());
+  std::unordered_set<int> seen;
+  std::vector<std::pair<int, int>> corners;              // reduced segments
+  std::unordered_map<std::uint64_t, std::vector<int>> run;  // corner segment -> points inside
+  size_t inside = 0;
+  for (int s0 : starts) {
+    if (seen.count(s0)) continue;
+    std::vector<int> loop;
+    for (int a = s0; !seen.count(a);) {
+      seen.insert(a);
+      loop.push_back(a);
+      auto it = next.find(a);
+      if (it == next.end()) return cap_triangles(ctx, plane, pts, segments);
+      a = it->second;
+    }
+    if (next.at(loop.back()) != s0) return cap_triangles(ctx, plane, pts, segments);
+    const size_t k = loop.size();
+    std::vector<char> corner(k);
+    int count = 0;
+    for (size_t i = 0; i < k; ++i) {
+      corner[i] = k < 4 || !inside_run(ctx, plane, pts[loop[(i + k - 1) % k]], pts[loop[i]], pts[loop[(i + 1) % k]]);
+      count += corner[i];
+    }
+    if (count < 3) return cap_triangles(ctx, plane, pts, segments);
+    size_t first = 0;
+    while (!corner[first]) ++first;
+    int from = loop[first];
+    std::vector<int> between;
+    for (size_t j = 1; j <= k; ++j) {
+      const size_t i = (first + j) % k;
+      if (!corner[i]) {
+        between.push_back(loop[i]);
+        continue;
+      }
+      corners.emplace_back(from, loop[i]);
+      if (!between.empty()) {
+        inside += between.size();
+        run.emplace(key(from, loop[i]), std::move(between));
+        between.clear();
+      }
+      from = loop[i];
+    }
+  }
+  if (run.empty()) return cap_triangles(ctx, plane, pts, segments);  // as given: same insertion order
+  std::vector<std::array<int, 3>> tris = cap_triangles(ctx, plane, pts, corners);
+  std::vector<std::array<int, 3>> out;
+  size_t used = 0;
+  const size_t first_new = pts.size();
+  for (const auto& t : tris) {
+    // A cap triangle (counter-clockwise) meets the part below along the reverse of its edges:
+    // its edge u -> w is the boundary segment w -> u, whose run goes from w to u.
+    std::array<std::vector<int>, 3> edge;
+    int with_run = 0, which = -1;
+    for (int i = 0; i < 3; ++i) {
+      const int u = t[i], w = t[(i + 1) % 3];
+      edge[i].push_back(u);
+      auto it = run.find(key(w, u));
+      if (it != run.end()) {
+        edge[i].insert(edge[i].end(), it->second.rbegin(), it->second.rend());
+        used += it->second.size();
+        ++with_run;
+        which = i;
+      }
+    }
+    if (with_run == 0) {
+      out.push_back(t);
+    } else if (with_run == 1) {
+      std::vector<int> e = edge[which];
+      e.push_back(t[(which + 1) % 3]);
+      const int apex = t[(which + 2) % 3];
+      for (size_t j = 0; j + 1 < e.size(); ++j) out.push_back({e[j], e[j + 1], apex});
+    } else {
+      Point m;
+      m.p = CGAL::centroid(pts[t[0]].p, pts[t[1]].p, pts[t[2]].p);
+      m.on = {plane};
+      const int mid = static_cast<int>(pts.size());
+      pts.push_back(std::move(m));
+      std::vector<int> e;
+      for (int i = 0; i < 3; ++i) e.insert(e.end(), edge[i].begin(), edge[i].end());
+      e.push_back(t[0]);
+      for (size_t j = 0; j + 1 < e.size(); ++j) out.push_back({e[j], e[j + 1], mid});
+    }
+  }
+  if (used != inside) {  // a corner split a reduced segment: runs not all placed
+    pts.resize(first_new);
+    return cap_triangles(ctx, plane, pts, segments);
+  }
   return out;
 }
 
@@ -331,8 +493,14 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
   }
   result.cut = true;
   std::vector<Point> pts = in.pts;
-  for (int i = 0; i < n; ++i)
-    if (s[i] == 0) add_on(pts[i], plane);
+  for (int i = 0; i < n; ++i) {
+    if (s[i] != 0 || std::binary_search(pts[i].on.begin(), pts[i].on.end(), plane)) continue;
+    add_on(pts[i], plane);
+    // Only an input vertex can be on the plane within the guard alone.
+    if (!ctx.floating && ctx.guard > 0 && pts[i].origin >= 0 &&
+        ctx.planes[plane].oriented_side(pts[i].p) != CGAL::ON_ORIENTED_BOUNDARY)
+      add_on_sorted(pts[i].loose, plane);
+  }
   std::unordered_map<std::uint64_t, int> cut_point;  // undirected edge -> new point
   auto crossing = [&](int a, int b) {
     const std::uint64_t k = key(std::min(a, b), std::max(a, b));
@@ -357,6 +525,9 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
     std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),
                           pts[hi].on.end(), std::back_inserter(q.on));
     add_on(q, plane);
+    for (const std::vector<int>* loose : {&pts[lo].loose, &pts[hi].loose})
+      for (int id : *loose)
+        if (std::binary_search(q.on.begin(), q.on.end(), id)) add_on_sorted(q.loose, id);
     const int id = static_cast<int>(pts.size());
     pts.push_back(std::move(q));
     cut_point.emplace(k, id);
@@ -411,7 +582,9 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       if (!directed.count(key(b, a))) boundary.emplace_back(a, b);
     }
   if (!boundary.empty()) {
-    for (const auto& tri : cap_triangles(ctx, plane, pts, boundary)) {
+    const auto cap = ctx.floating || !ctx.simplify ? cap_triangles(ctx, plane, pts, boundary)
+                                                   : chained_cap(ctx, plane, pts, boundary);
+    for (const auto& tri : cap) {
       below.push_back({tri, plane, 1});
       above.push_back({{tri[0], tri[2], tri[1]}, plane, -1});
     }
@@ -419,6 +592,188 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
   result.below = components(pts, below);
   result.above = components(pts, above);
   return result;
+}
+
+// ---- Simplification ----------------------------------------------------------------------
+
+void simplify(const Context& ctx, Piece& piece) {
+  const int n = static_cast<int>(piece.pts.size());
+  const int nt = static_cast<int>(piece.tris.size());
+  auto code = [](const Tri& t) { return 2 * t.plane + (t.sign > 0 ? 0 : 1); };
+  // Up to two faces (plane, sign) around each vertex, and whether there are more.
+  std::vector<std::array<int, 2>> groups(n, {-1, -1});
+  std::vector<char> many(n, 0);
+  for (const Tri& t : piece.tris)
+    for (int v : t.v) {
+      const int g = code(t);
+      auto& gv = groups[v];
+      if (gv[0] < 0 || gv[0] == g) gv[0] = g;
+      else if (gv[1] < 0 || gv[1] == g) gv[1] = g;
+      else many[v] = 1;
+    }
+  std::vector<char> removable(n, 0);
+  std::map<std::pair<int, int>, bool> parallel;  // per pair of planes met at a vertex
+  bool any = false;
+  for (int v = 0; v < n; ++v) {
+    if (many[v] || groups[v][0] < 0) continue;
+    if (groups[v][1] >= 0) {
+      const int a = groups[v][0] / 2, b = groups[v][1] / 2;
+      if (a == b) continue;
+      auto [it, fresh] = parallel.try_emplace({std::min(a, b), std::max(a, b)}, false);
+      if (fresh) it->second = parallel_planes(ctx, a, b);
+      if (it->second) continue;
+    }
+    removable[v] = 1;
+    any = true;
+  }
+  if (!any) return;
+  // The triangles around a removable vertex must form one cycle (a manifold vertex) crossing
+  // between its two faces exactly twice (one straight edge through it).
+  struct Link {
+    int v, x, y, g;
+  };
+  std::vector<Link> links;
+  for (const Tri& t : piece.tris)
+    for (int i = 0; i < 3; ++i)
+      if (removable[t.v[i]]) links.push_back({t.v[i], t.v[(i + 1) % 3], t.v[(i + 2) % 3], code(t)});
+  std::sort(links.begin(), links.end(), [](const Link& a, const Link& b) { return std::tie(a.v, a.x) < std::tie(b.v, b.x); });
+  for (size_t lo = 0; lo < links.size();) {
+    size_t hi = lo;
+    while (hi < links.size() && links[hi].v == links[lo].v) ++hi;
+    const int v = links[lo].v;
+    bool ok = true;
+    for (size_t i = lo + 1; i < hi && ok; ++i) ok = links[i].x != links[i - 1].x;
+    size_t steps = 0, at = lo;
+    int changes = 0;
+    std::array<int, 2> ends{-1, -1};  // the two edges through v where the faces change
+    while (ok) {
+      const int y = links[at].y, g = links[at].g;
+      auto it = std::lower_bound(links.begin() + static_cast<std::ptrdiff_t>(lo), links.begin() + static_cast<std::ptrdiff_t>(hi), y,
+                                 [](const Link& l, int x) { return l.x < x; });
+      if (it == links.begin() + static_cast<std::ptrdiff_t>(hi) || it->x != y) ok = false;
+      else {
+        at = static_cast<size_t>(it - links.begin());
+        if (links[at].g != g && changes < 2) ends[static_cast<size_t>(changes)] = y;
+        changes += links[at].g != g;
+        if (++steps > hi - lo) ok = false;
+        if (at == lo) break;
+      }
+    }
+    ok = ok && steps == hi - lo && changes == (groups[v][1] >= 0 ? 2 : 0);
+    // On a straight edge, v lies strictly between its two neighbours along it (not the tip of
+    // a fold of two faces that meet at a sliver's edge).
+    if (ok && changes == 2)
+      ok = CGAL::collinear_are_strictly_ordered_along_line(piece.pts[ends[0]].p, piece.pts[v].p, piece.pts[ends[1]].p);
+    if (!ok) removable[v] = 0;
+    lo = hi;
+  }
+  // Faces to re-triangulate: those with a removable vertex. Each must lie exactly on its plane
+  // (no loose vertex) and have a simple boundary (one outgoing boundary edge per vertex);
+  // otherwise its vertices stay, which can leave other faces with nothing to do: repeat.
+  std::map<int, std::vector<int>> face_tris;  // group -> triangles
+  for (int t = 0; t < nt; ++t) face_tris[code(piece.tris[t])].push_back(t);
+  std::map<int, std::unordered_map<int, int>> boundary;  // group -> next along its loops
+  std::set<int> bad;
+  for (bool again = true; again;) {
+    again = false;
+    std::set<int> affected;
+    for (int v = 0; v < n; ++v)
+      if (removable[v])
+        for (int g : groups[v])
+          if (g >= 0) affected.insert(g);
+    for (int g : affected) {
+      if (bad.count(g) || boundary.count(g)) continue;
+      bool good = true;
+      std::unordered_set<std::uint64_t> directed;
+      for (int t : face_tris[g]) {
+        const Tri& tri = piece.tris[t];
+        for (int i = 0; i < 3; ++i) {
+          directed.insert(key(tri.v[i], tri.v[(i + 1) % 3]));
+          const Point& p = piece.pts[tri.v[i]];
+          if (std::binary_search(p.loose.begin(), p.loose.end(), tri.plane)) good = false;
+        }
+      }
+      std::unordered_map<int, int> next;
+      for (int t : face_tris[g]) {
+        const Tri& tri = piece.tris[t];
+        for (int i = 0; i < 3 && good; ++i) {
+          const int a = tri.v[i], b = tri.v[(i + 1) % 3];
+          if (!directed.count(key(b, a))) good = next.emplace(a, b).second;
+        }
+      }
+      if (good) boundary.emplace(g, std::move(next));
+      else bad.insert(g);
+    }
+    for (int v = 0; v < n; ++v)
+      if (removable[v])
+        for (int g : groups[v])
+          if (g >= 0 && bad.count(g)) removable[v] = 0, again = true;
+  }
+  std::set<int> affected;
+  for (int v = 0; v < n; ++v)
+    if (removable[v])
+      for (int g : groups[v])
+        if (g >= 0) affected.insert(g);
+  if (affected.empty()) return;
+  std::vector<Tri> tris;
+  std::vector<char> replaced(nt, 0);
+  std::vector<std::pair<int, int>> segments;
+  for (int g : affected) {
+    const auto& next = boundary.at(g);
+    std::vector<int> starts;
+    for (const auto& [a, b] : next) starts.push_back(a);
+    std::sort(starts.begin(), starts.end());
+    std::unordered_set<int> seen;
+    segments.clear();
+    for (int s0 : starts) {
+      if (seen.count(s0)) continue;
+      std::vector<int> loop;
+      for (int a = s0; !seen.count(a);) {
+        seen.insert(a);
+        if (!removable[a]) loop.push_back(a);
+        auto it = next.find(a);
+        if (it == next.end()) return;  // not a closed loop: leave the piece as it is
+        a = it->second;
+      }
+      if (loop.size() < 3) return;
+      for (size_t i = 0; i < loop.size(); ++i) segments.emplace_back(loop[i], loop[(i + 1) % loop.size()]);
+    }
+    const int plane = g / 2, sign = g % 2 ? -1 : 1;
+    std::vector<std::array<int, 3>> filled;
+    try {
+      filled = fill_region<Ct>(ctx, plane, piece.pts, segments);
+    } catch (const InternalError&) {
+      return;
+    }
+    for (auto t : filled) {
+      if (sign < 0) std::swap(t[1], t[2]);
+      tris.push_back({t, plane, sign});
+    }
+    for (int t : face_tris[g]) replaced[t] = 1;
+  }
+  for (int t = 0; t < nt; ++t)
+    if (!replaced[t]) tris.push_back(piece.tris[t]);
+  // Still closed (each directed edge has its reverse) and every edge between two triangles
+  // only (a new edge x–y must not join an edge x–y elsewhere), else left as it was.
+  std::unordered_set<std::uint64_t> directed;
+  for (const Tri& t : tris)
+    for (int i = 0; i < 3; ++i)
+      if (!directed.insert(key(t.v[i], t.v[(i + 1) % 3])).second) return;
+  for (const Tri& t : tris)
+    for (int i = 0; i < 3; ++i)
+      if (!directed.count(key(t.v[(i + 1) % 3], t.v[i]))) return;
+  Piece out;
+  std::vector<int> remap(n, -1);
+  for (Tri& t : tris)
+    for (int& w : t.v) {
+      if (remap[w] < 0) {
+        remap[w] = static_cast<int>(out.pts.size());
+        out.pts.push_back(std::move(piece.pts[w]));
+      }
+      w = remap[w];
+    }
+  out.tris = std::move(tris);
+  piece = std::move(out);
 }
 
 // ---- Back to bodies ----------------------------------------------------------------------
@@ -456,8 +811,8 @@ SplitResult split(const Body& body, const Plane& plane) {
   SplitResult result;
   for (Piece& part : components(piece.pts, piece.tris)) {
     Sides sides = split_piece(ctx, part, id);
-    for (const Piece& p : sides.below) result.below.push_back(body_of(p));
-    for (const Piece& p : sides.above) result.above.push_back(body_of(p));
+    for (Piece& p : sides.below) simplify(ctx, p), result.below.push_back(body_of(p));
+    for (Piece& p : sides.above) simplify(ctx, p), result.above.push_back(body_of(p));
   }
   return result;
 }

@@ -32,6 +32,8 @@ struct Context {
   // computed in double; no symbolic incidence. Kept for the speed–accuracy comparison.
   bool floating = false;
   double epsilon = 0;  // absolute, in world units
+  // Pieces are simplified after every cut (simplify()); off in the fallback runs of decompose().
+  bool simplify = true;
   // Index of `approx` by unit normal (cells of kNormalCell, filled lazily up to `indexed`), so
   // that piece_of() finds a face's plane among the planes met before without scanning them all.
   std::unordered_map<std::uint64_t, std::vector<int>> normal_cells;
@@ -41,6 +43,10 @@ struct Context {
 struct Point {
   P3 p;
   std::vector<int> on;  // sorted ids of canonical planes the point lies on, by construction
+  // The ids in `on` that hold only within the rounding guard (an input vertex a few ulps off a
+  // plane its face shares with coplanar-within-rounding faces), not exactly: a face with such a
+  // vertex is never re-triangulated (simplify), since that would change the exact volume.
+  std::vector<int> loose;
   int origin = -1;      // input vertex id, or −1 for a point made by a cut
   Vec3 input = Vec3::Zero();  // the input's double coordinates (origin >= 0)
 };
@@ -67,6 +73,8 @@ inline std::uint64_t key(int a, int b) {
 int side(const Context& ctx, const Point& pt, int id);
 // Records that pt lies on canonical plane id (sorted, no repeats).
 void add_on(Point& pt, int id);
+// Inserts id into a sorted id list (no repeats).
+void add_on_sorted(std::vector<int>& ids, int id);
 // Groups the body's faces into canonical planes and builds the exact piece of the whole body.
 // Cost O(V + F log F).
 Piece piece_of(const Body& body, Context& ctx);
@@ -81,6 +89,16 @@ struct Sides {
 // A piece cut by canonical plane `plane`, the caps triangulated exactly. Cost O(T + C log C)
 // for T triangles and C cap vertices.
 Sides split_piece(const Context& ctx, const Piece& in, int plane);
+// Drops the vertices of a closed piece that are not corners — inside a face (every triangle
+// around it on one face) or on a straight edge between two faces on non-parallel planes —
+// and re-triangulates the faces that held them from their corners (constrained
+// triangulation). Cuts leave such vertices behind (cut points of crossed triangles, a cap's
+// points on straight runs); without this they pile up in the descendants and every later cut
+// pays for them. Decided symbolically (which faces meet at a vertex); only faces whose
+// vertices all lie exactly on their plane are re-triangulated, so the exact volume and every
+// exact side are unchanged. Leaves the piece as it is where a face is not a simple set of
+// loops. Cost O(T log T) plus the triangulation of the changed faces.
+void simplify(const Context& ctx, Piece& piece);
 // A piece back to a Body (coordinates rounded once). Cost O(T log T).
 Body body_of(const Piece& piece);
 

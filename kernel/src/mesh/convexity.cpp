@@ -453,12 +453,16 @@ ConvexityCertificate certify_convexity(const Body& body) {
 }
 
 bool is_convex(const Body& body) {
+  // Decided once per body (Body::convexity_memo): hidden lines and shadows ask on every call.
+  if (const int memo = body.convexity_memo(); memo >= 0) return memo == 1;
+  bool convex = false;
   switch (Certificate(body).run()) {
-    case Verdict::Convex: return true;
-    case Verdict::NotConvex: return false;
-    case Verdict::Unknown: break;
+    case Verdict::Convex: convex = true; break;
+    case Verdict::NotConvex: convex = false; break;
+    case Verdict::Unknown: convex = nonconvex_faces_by_hull(body).empty(); break;
   }
-  return nonconvex_faces_by_hull(body).empty();
+  body.set_convexity_memo(convex);
+  return convex;
 }
 
 ConvexityReport convexity(const Body& body) {

@@ -521,11 +521,14 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     const Edge& edge = body.edges()[static_cast<size_t>(e)];
     const Vec3 &p1 = v[static_cast<size_t>(edge.v0)], &p2 = v[static_cast<size_t>(edge.v1)];
     // Not an edge of the drawing: between two faces of one plane, or seen end-on.
+    // A support vertex of the right face that is one of the left face's is on its plane: not
+    // tested (orient3d of a repeated point is zero, but only exact arithmetic says so).
     const auto& sl = body.support(edge.left_face);
     bool coplanar = true;
     for (int k : body.support(edge.right_face))
-      coplanar = coplanar && orient_filtered(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
-                                                  v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero;
+      coplanar = coplanar && (k == sl[0] || k == sl[1] || k == sl[2] ||
+                              orient_filtered(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
+                                              v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero);
     // A two-sided face's edges join its two faces, which share one plane: all are drawn.
     if ((coplanar && !body.two_sided()) || end_on(p1, p2)) continue;
     // A smooth edge is drawn only when asked, as its own kind.

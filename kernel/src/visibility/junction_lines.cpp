@@ -106,12 +106,15 @@ void Roberts::merge_coincident() {
   }
 }
 
-const std::vector<ExactPlane>& Roberts::body_planes(int b) {
+const ExactPlane& Roberts::face_plane(int b, int f) {
   HlrBody& bd = data_[static_cast<size_t>(b)];
-  if (bd.planes.empty())
-    for (int f = 0; f < bodies_[static_cast<size_t>(b)].face_count(); ++f)
-      bd.planes.push_back(exact_face_plane(bodies_[static_cast<size_t>(b)], f));
-  return bd.planes;
+  if (bd.plane_slot.empty()) bd.plane_slot.assign(static_cast<size_t>(bodies_[static_cast<size_t>(b)].face_count()), -1);
+  int& slot = bd.plane_slot[static_cast<size_t>(f)];
+  if (slot < 0) {
+    slot = static_cast<int>(bd.planes.size());
+    bd.planes.push_back(exact_face_plane(bodies_[static_cast<size_t>(b)], f));
+  }
+  return bd.planes[static_cast<size_t>(slot)];
 }
 
 void Roberts::junctions() {
@@ -148,8 +151,9 @@ void Roberts::junctions() {
     };
     int found = 0;
     const std::vector<detail::JunctionPart> parts = detail::junction_lines(
-        bodies_[static_cast<size_t>(i)], bodies_[static_cast<size_t>(j)], body_planes(i),
-        body_planes(j), view_, query, brute, found, back[static_cast<size_t>(i)],
+        bodies_[static_cast<size_t>(i)], bodies_[static_cast<size_t>(j)],
+        [&](int f) -> const ExactPlane& { return face_plane(i, f); },
+        [&](int f) -> const ExactPlane& { return face_plane(j, f); }, view_, query, brute, found, back[static_cast<size_t>(i)],
         back[static_cast<size_t>(j)], &cache);
     result_.stats.junction_segments += found;
     for (const auto& p : parts) add_segment(result_.visible, p.a, p.b, LineKind::Junction, i, j, -1);

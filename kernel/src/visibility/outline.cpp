@@ -36,76 +36,136 @@ std::vector<EdgeClass> classify_edges(const Body& body, double crease_angle_deg,
   return out;
 }
 
+namespace {
+
+// The corner normals of corner_normals(), one corner at a time, without the per-corner table:
+// a vertex whose faces all lie within half the crease angle of its first face (less a margin
+// that rounding cannot cross) has every pair of its faces within the crease angle, so each of
+// its non-analytic corners gets the same sum, in the same order, as corner_normals() computes:
+// it is computed once per vertex. Other corners are summed as corner_normals() does. O(corners)
+// to build; O(1) per corner asked for at a shared vertex, O(degree) otherwise.
+class CornerNormals {
+ public:
+  CornerNormals(const Body& body, double crease_angle_deg, const SmoothSurface& surface)
+      : body_(body), surface_(surface), v_(body.vertices()), faces_(body.faces()) {
+    const double crease = crease_angle_deg * std::numbers::pi / 180;
+    cos_crease_ = std::cos(crease);
+    const size_t nv = v_.size(), nf = faces_.size();
+    // Faces around each vertex (CSR), in ascending face order.
+    start_.assign(nv + 1, 0);
+    for (const Face& face : faces_)
+      for (const auto& loop : face.loops)
+        for (int x : loop) ++start_[static_cast<size_t>(x) + 1];
+    for (size_t i = 1; i < start_.size(); ++i) start_[i] += start_[i - 1];
+    around_.resize(static_cast<size_t>(start_.back()));
+    {
+      std::vector<int> fill(start_.begin(), start_.end() - 1);
+      for (size_t f = 0; f < nf; ++f)
+        for (const auto& loop : faces_[f].loops)
+          for (int x : loop) around_[static_cast<size_t>(fill[static_cast<size_t>(x)]++)] = static_cast<int>(f);
+    }
+    normal_.resize(nf);
+    analytic_.assign(nf, 0);
+    for (size_t f = 0; f < nf; ++f) {
+      normal_[f] = outward_normal(body, static_cast<int>(f));
+      analytic_[f] = curved(surface, normal_[f]);
+    }
+    // Shared vertices: computed dot ≥ cos(crease/2 − 1e-6) + 1e-12 makes the true angle to the
+    // first face at most crease/2 − 1e-6, so any two faces are at most crease − 2e-6 apart and
+    // their computed dot (error ~1e-15) is ≥ cos_crease.
+    const double half = crease / 2 - 1e-6;
+    shared_.assign(nv, 0);
+    shared_normal_.assign(nv, Vec3::Zero());
+    if (half > 0) {
+      const double cos_half = std::cos(half) + 1e-12;
+      for (size_t x = 0; x < nv; ++x) {
+        const int b = start_[x], e = start_[x + 1];
+        if (e - b < 2) continue;
+        const Vec3& n0 = normal_[static_cast<size_t>(around_[static_cast<size_t>(b)])];
+        bool all = true;
+        Vec3 sum = Vec3::Zero();
+        for (int i = b; i < e && all; ++i) {
+          const int g = around_[static_cast<size_t>(i)];
+          all = normal_[static_cast<size_t>(g)].dot(n0) >= cos_half;
+          sum += body.face_area(g) * normal_[static_cast<size_t>(g)];
+        }
+        if (!all || !(sum.norm() > 0)) continue;
+        shared_[x] = 1;
+        shared_normal_[x] = sum.normalized();
+      }
+    }
+  }
+
+  bool analytic(int f) const { return analytic_[static_cast<size_t>(f)] != 0; }
+  const Vec3& face_normal(int f) const { return normal_[static_cast<size_t>(f)]; }
+  // Vertex x's corners off analytic faces all have this normal (shared(x)).
+  bool shared(int x) const { return shared_[static_cast<size_t>(x)] != 0; }
+  const Vec3& shared_normal(int x) const { return shared_normal_[static_cast<size_t>(x)]; }
+
+  // The normal of face f's corner at vertex x, as corner_normals() gives it. `centre`: face f's
+  // centre when analytic(f) (face_centre).
+  Vec3 normal(int f, int x, const Vec3& centre) const {
+    if (analytic(f)) return surface_.normal(v_[static_cast<size_t>(x)], centre);
+    if (shared(x)) return shared_normal(x);
+    // Area-weighted normals of the faces around x that turn from f by at most the crease
+    // angle: a crease keeps its two sides apart, a smooth region shares one normal.
+    // A corner where f meets no other face within the crease angle keeps f's normal
+    // exactly, so that outline() knows a flat face (a box's) has no contour.
+    const Vec3& nf = normal_[static_cast<size_t>(f)];
+    Vec3 sum = Vec3::Zero();
+    bool alone = true;
+    for (int i = start_[static_cast<size_t>(x)]; i < start_[static_cast<size_t>(x) + 1]; ++i) {
+      const int g = around_[static_cast<size_t>(i)];
+      if (normal_[static_cast<size_t>(g)].dot(nf) >= cos_crease_) {
+        sum += body_.face_area(g) * normal_[static_cast<size_t>(g)];
+        alone = alone && g == f;
+      }
+    }
+    return !alone && sum.norm() > 0 ? Vec3(sum.normalized()) : nf;
+  }
+
+ private:
+  const Body& body_;
+  const SmoothSurface& surface_;
+  const std::vector<Vec3>& v_;
+  const std::vector<Face>& faces_;
+  double cos_crease_ = 1;
+  std::vector<int> start_, around_;
+  std::vector<Vec3> normal_;
+  std::vector<char> analytic_;
+  std::vector<char> shared_;
+  std::vector<Vec3> shared_normal_;
+};
+
+}  // namespace
+
 std::vector<Vec3> corner_normals(const Body& body, double crease_angle_deg,
                                  const SmoothSurface& surface) {
-  const double cos_crease = std::cos(crease_angle_deg * std::numbers::pi / 180);
-  const auto& faces = body.faces();
-  const auto& v = body.vertices();
-  // Faces around each vertex (CSR).
-  std::vector<int> start(v.size() + 1, 0), around;
-  for (const Face& face : faces)
-    for (const auto& loop : face.loops)
-      for (int x : loop) ++start[static_cast<size_t>(x) + 1];
-  for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
-  around.resize(static_cast<size_t>(start.back()));
-  {
-    std::vector<int> fill(start.begin(), start.end() - 1);
-    for (size_t f = 0; f < faces.size(); ++f)
-      for (const auto& loop : faces[f].loops)
-        for (int x : loop) around[static_cast<size_t>(fill[static_cast<size_t>(x)]++)] = static_cast<int>(f);
-  }
-  std::vector<Vec3> normal(faces.size());
-  for (size_t f = 0; f < faces.size(); ++f) normal[f] = outward_normal(body, static_cast<int>(f));
-
+  const CornerNormals normals(body, crease_angle_deg, surface);
   std::vector<Vec3> out;
-  out.reserve(static_cast<size_t>(start.back()));
-  for (size_t f = 0; f < faces.size(); ++f) {
-    const bool analytic = curved(surface, normal[f]);
-    const Vec3 centre = analytic ? face_centre(body, static_cast<int>(f)) : Vec3::Zero();
-    for (const auto& loop : faces[f].loops)
-      for (int x : loop) {
-        if (analytic) {
-          out.push_back(surface.normal(v[static_cast<size_t>(x)], centre));
-          continue;
-        }
-        // Area-weighted normals of the faces around x that turn from f by at most the crease
-        // angle: a crease keeps its two sides apart, a smooth region shares one normal.
-        // A corner where f meets no other face within the crease angle keeps f's normal
-        // exactly, so that outline() knows a flat face (a box's) has no contour.
-        Vec3 sum = Vec3::Zero();
-        bool alone = true;
-        for (int i = start[static_cast<size_t>(x)]; i < start[static_cast<size_t>(x) + 1]; ++i) {
-          const int g = around[static_cast<size_t>(i)];
-          if (normal[static_cast<size_t>(g)].dot(normal[f]) >= cos_crease) {
-            sum += body.face_area(g) * normal[static_cast<size_t>(g)];
-            alone = alone && static_cast<size_t>(g) == f;
-          }
-        }
-        out.push_back(!alone && sum.norm() > 0 ? Vec3(sum.normalized()) : normal[f]);
-      }
+  for (size_t f = 0; f < body.faces().size(); ++f) {
+    const int face = static_cast<int>(f);
+    const Vec3 centre = normals.analytic(face) ? face_centre(body, face) : Vec3::Zero();
+    for (const auto& loop : body.faces()[f].loops)
+      for (int x : loop) out.push_back(normals.normal(face, x, centre));
   }
   return out;
 }
 
 std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
                                     double crease_angle_deg, const SmoothSurface& surface) {
-  const std::vector<Vec3> normals = corner_normals(body, crease_angle_deg, surface);
+  const CornerNormals normals(body, crease_angle_deg, surface);
   const auto& faces = body.faces();
   const auto& v = body.vertices();
-  // (vertex, corner) pairs of each face, sorted by vertex, to find a triangle's corners.
-  std::vector<int> base(faces.size() + 1, 0);
-  std::vector<std::pair<int, int>> corner_of;
-  for (size_t f = 0; f < faces.size(); ++f) {
-    base[f] = static_cast<int>(corner_of.size());
-    for (const auto& loop : faces[f].loops)
-      for (int x : loop) corner_of.emplace_back(x, static_cast<int>(corner_of.size()));
-    std::sort(corner_of.begin() + base[f], corner_of.end());
+  // Centres of the analytic faces (their corner normals depend on them).
+  std::vector<Vec3> centre;
+  if (surface.is_smooth()) {
+    centre.assign(faces.size(), Vec3::Zero());
+    for (size_t f = 0; f < faces.size(); ++f)
+      if (normals.analytic(static_cast<int>(f))) centre[f] = face_centre(body, static_cast<int>(f));
   }
-  base[faces.size()] = static_cast<int>(corner_of.size());
-  auto corner = [&](int f, int x) {
-    auto first = corner_of.begin() + base[static_cast<size_t>(f)];
-    auto last = corner_of.begin() + base[static_cast<size_t>(f) + 1];
-    return std::lower_bound(first, last, std::make_pair(x, -1))->second;
+  const auto corner_normal = [&](int f, int x) {
+    return normals.normal(f, x, centre.empty() ? Vec3::Zero() : centre[static_cast<size_t>(f)]);
   };
 
   // Singular points of the analytic surface (a cone's apex): the curved faces around the
@@ -114,48 +174,68 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
   // where the sign changes on the opposite side, instead of stopping short at a side.
   std::vector<char> singular(v.size(), 0);
   if (surface.is_smooth()) {
-    std::vector<const Vec3*> first(v.size(), nullptr);
+    std::vector<char> seen(v.size(), 0);
+    std::vector<Vec3> first(v.size());
     for (size_t f = 0; f < faces.size(); ++f) {
-      if (!curved(surface, outward_normal(body, static_cast<int>(f)))) continue;
+      if (!normals.analytic(static_cast<int>(f))) continue;
       for (const auto& loop : faces[f].loops)
         for (int x : loop) {
-          const Vec3& n = normals[static_cast<size_t>(corner(static_cast<int>(f), x))];
-          const Vec3*& seen = first[static_cast<size_t>(x)];
-          if (seen == nullptr) seen = &n;
-          else if (!(*seen - n).isZero(1e-9)) singular[static_cast<size_t>(x)] = 1;
+          const Vec3 n = corner_normal(static_cast<int>(f), x);
+          const size_t i = static_cast<size_t>(x);
+          if (!seen[i]) seen[i] = 1, first[i] = n;
+          else if (!(first[i] - n).isZero(1e-9)) singular[i] = 1;
         }
     }
   }
 
+  // n·r at the shared vertices, once each (the same value every triangle there would compute).
+  std::vector<double> shared_g(v.size(), 0);
+  for (size_t x = 0; x < v.size(); ++x)
+    if (normals.shared(static_cast<int>(x)) && !singular[x])
+      shared_g[x] = normals.shared_normal(static_cast<int>(x)).dot(view.ray_to(v[x]));
+
   std::vector<OutlineSegment> out;
   for (const Triangle& t : body.triangles()) {
+    // Quick rejection: three shared non-analytic corners of one sign (flat or not, no contour).
+    if (!normals.analytic(t.face)) {
+      int positive = 0;
+      bool all_shared = true;
+      for (int k = 0; k < 3 && all_shared; ++k) {
+        const size_t x = static_cast<size_t>(t.v[k]);
+        all_shared = normals.shared(t.v[k]) && !singular[x];
+        positive += shared_g[x] >= 0;
+      }
+      if (all_shared && (positive == 0 || positive == 3)) continue;
+    }
     // A flat-shaded triangle (every corner on the face's own normal) has n·r of one sign in
     // exact arithmetic, the sign facing() decides; rounding must not make a contour there
     // (a box face seen edge-on).
-    const Vec3 face_normal = outward_normal(body, t.face);
+    const Vec3& face_normal = normals.face_normal(t.face);
+    Vec3 n[3];
     bool flat = true;
-    for (int k = 0; k < 3; ++k) flat = flat && normals[static_cast<size_t>(corner(t.face, t.v[k]))] == face_normal;
+    for (int k = 0; k < 3; ++k) {
+      n[k] = corner_normal(t.face, t.v[k]);
+      flat = flat && n[k] == face_normal;
+    }
     if (flat) continue;
     double g[3];
     bool positive[3];
     for (int k = 0; k < 3; ++k) {
       const Vec3& p = v[static_cast<size_t>(t.v[k])];
-      g[k] = singular[static_cast<size_t>(t.v[k])]
-                 ? 0.0
-                 : normals[static_cast<size_t>(corner(t.face, t.v[k]))].dot(view.ray_to(p));
+      g[k] = singular[static_cast<size_t>(t.v[k])] ? 0.0 : n[k].dot(view.ray_to(p));
       positive[k] = g[k] >= 0;
     }
     if (positive[0] == positive[1] && positive[1] == positive[2]) continue;
     // The two sides whose ends differ in sign; each crossing is interpolated from the end with
     // the smaller vertex index, so that the neighbour across the side gets the same point.
     Vec3 ends[2];
-    int n = 0;
+    int m = 0;
     for (int k = 0; k < 3; ++k) {
       int i = k, j = (k + 1) % 3;
       if (positive[i] == positive[j]) continue;
       if (t.v[j] < t.v[i]) std::swap(i, j);
       const Vec3 &pi = v[static_cast<size_t>(t.v[i])], &pj = v[static_cast<size_t>(t.v[j])];
-      ends[n++] = pi + (g[i] / (g[i] - g[j])) * (pj - pi);
+      ends[m++] = pi + (g[i] / (g[i] - g[j])) * (pj - pi);
     }
     out.push_back({ends[0], ends[1], t.face});
   }

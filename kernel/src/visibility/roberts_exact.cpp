@@ -434,25 +434,36 @@ std::vector<std::pair<double, double>> visible_parts_exact(const Vec3& p1, const
 }
 
 std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
-                                         const std::vector<ExactPlane>& planes_a,
-                                         const std::vector<ExactPlane>& planes_b,
+                                         const FacePlane& planes_a, const FacePlane& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
                                          bool brute, int& found, const std::vector<bool>& back_a,
                                          const std::vector<bool>& back_b, ExactPlaneCache* cache) {
   std::vector<JunctionPart> out;
+  // Only B's faces whose boxes meet A's box can meet a face of A: O(Fb) box tests once, then
+  // each face of A near B is tested against those alone.
+  std::vector<int> near_b;
   std::vector<Eigen::AlignedBox3d> boxes_b;
-  // B's exact planes built on first use (only faces near A's are ever needed), then reused.
-  std::vector<std::optional<HPlane>> hplanes_b(static_cast<size_t>(b.face_count()));
-  for (int fb = 0; fb < b.face_count(); ++fb) boxes_b.push_back(face_box(b, fb));
+  for (int fb = 0; fb < b.face_count(); ++fb) {
+    const Eigen::AlignedBox3d box = face_box(b, fb);
+    if (!box.intersects(a.bbox())) continue;
+    near_b.push_back(fb);
+    boxes_b.push_back(box);
+  }
+  if (near_b.empty()) return out;
+  // B's exact planes built on first use, then reused.
+  std::vector<std::optional<HPlane>> hplanes_b(near_b.size());
   Candidates candidates;
   for (int fa = 0; fa < a.face_count(); ++fa) {
     const Eigen::AlignedBox3d box_a = face_box(a, fa);
     if (!box_a.intersects(b.bbox())) continue;
-    const HPlane ha = hplane(planes_a[static_cast<size_t>(fa)]);
-    for (int fb = 0; fb < b.face_count(); ++fb) {
-      if (!box_a.intersects(boxes_b[static_cast<size_t>(fb)])) continue;
-      std::optional<HPlane>& cached_b = hplanes_b[static_cast<size_t>(fb)];
-      if (!cached_b) cached_b = hplane(planes_b[static_cast<size_t>(fb)]);
+    std::optional<HPlane> ha_built;
+    for (size_t kb = 0; kb < near_b.size(); ++kb) {
+      const int fb = near_b[kb];
+      if (!box_a.intersects(boxes_b[kb])) continue;
+      if (!ha_built) ha_built = hplane(planes_a(fa));
+      const HPlane& ha = *ha_built;
+      std::optional<HPlane>& cached_b = hplanes_b[kb];
+      if (!cached_b) cached_b = hplane(planes_b(fb));
       const HPlane& hb = *cached_b;
       // Direction of L = na × nb; parallel planes have no junction line.
       const Q dir[3] = {ha.n[1] * hb.n[2] - ha.n[2] * hb.n[1], ha.n[2] * hb.n[0] - ha.n[0] * hb.n[2],
@@ -465,9 +476,9 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
         if (axis < 0 || m > best) axis = k, best = m;
       }
       if (axis < 0) continue;
-      const std::vector<Span> sa = face_spans(a, fa, planes_b[static_cast<size_t>(fb)], hb, axis);
+      const std::vector<Span> sa = face_spans(a, fa, planes_b(fb), hb, axis);
       if (sa.empty()) continue;
-      const std::vector<Span> sb = face_spans(b, fb, planes_a[static_cast<size_t>(fa)], ha, axis);
+      const std::vector<Span> sb = face_spans(b, fb, planes_a(fa), ha, axis);
       // On a back face of a convex body: hidden by that body (counted, not tested).
       const bool hidden_by_own = (!back_a.empty() && back_a[static_cast<size_t>(fa)]) ||
                                  (!back_b.empty() && back_b[static_cast<size_t>(fb)]);

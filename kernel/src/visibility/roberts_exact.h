@@ -75,7 +75,8 @@ std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
 /// `back_a` / `back_b` (empty when the body is not convex): faces strictly facing away from the
 /// viewer of a convex body; a junction in the relative interior of such a face is hidden by its
 /// own body, so it is skipped without a test.
-/// Cost: O(Fa·Fb) box tests, and per junction segment O(candidates · planes) exact evaluations
+/// Cost: O(Fa + Fb) box tests, then O(Fa'·Fb') for the faces of each whose boxes meet the other
+/// body's box, and per junction segment O(candidates · planes) exact evaluations
 /// at most (usually far fewer with the early end).
 struct JunctionPart {
   Vec3 a, b;
@@ -83,9 +84,11 @@ struct JunctionPart {
 /// Candidates for a junction segment a–b lying on face fa of the first body and fb of the second.
 using CandidateQuery =
     std::function<void(const Vec3& a, const Vec3& b, int fa, int fb, Candidates& out)>;
+/// The exact plane (exact_face_plane) of a face, built by the caller on first use: only the
+/// faces near the other body are ever asked for.
+using FacePlane = std::function<const ExactPlane&(int face)>;
 std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
-                                         const std::vector<ExactPlane>& planes_a,
-                                         const std::vector<ExactPlane>& planes_b,
+                                         const FacePlane& planes_a, const FacePlane& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
                                          bool brute_force, int& found,
                                          const std::vector<bool>& back_a = {},

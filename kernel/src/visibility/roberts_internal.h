@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -119,7 +120,8 @@ struct HlrBody {
   std::vector<EdgeClass> classes;  // per edge; empty: every edge sharp (crease angle 0)
   bool any_smooth = false;
   std::vector<Facing> facing;
-  std::vector<ExactPlane> planes;  // exact face planes (junctions), filled on demand
+  std::deque<ExactPlane> planes;   // exact face planes (junctions), built on demand (stable)
+  std::vector<int> plane_slot;     // per face: its index in planes, −1 not built yet
 };
 
 class Roberts {
@@ -259,7 +261,8 @@ class Roberts {
   // Edges of different bodies on one line: their parts are joined along the line.
   void merge_coincident();
 
-  const std::vector<ExactPlane>& body_planes(int b);
+  // The exact plane of face f of body b (junctions), built on first use. Not thread-safe.
+  const ExactPlane& face_plane(int b, int f);
 
   void junctions();
 

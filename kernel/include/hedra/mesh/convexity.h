@@ -37,7 +37,8 @@ struct ConvexityReport {
 /// convexity()), so the answer is always exact.
 /// Cost O(V + E) when certified; O(V log V + Σ hull degrees) in the fallback, plus O(V) per
 /// face with a rounded vertex of its own outside its plane.
-/// The one convexity test of hedra's visibility passes (hidden lines, shadows).
+/// The one convexity test of hedra's visibility passes (hidden lines, shadows). Decided once
+/// per body: later calls on it or its copies read the verdict back (Body::convexity_memo), O(1).
 bool is_convex(const Body& body);
 
 /// What the O(V + E) certificate of is_convex() alone settles.

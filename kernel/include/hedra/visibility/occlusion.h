@@ -63,8 +63,9 @@ struct OcclusionVolume {
 
 /// The occlusion volume of a convex body from a viewpoint. Planes in a fixed order: the front
 /// faces' planes (exact_face_plane) in face order, then one plane per silhouette edge in edge
-/// order, oriented with the body on its inner side. Cost O(F + E·V) (orienting each silhouette
-/// plane reads the vertices in double; the exact sign of the farthest one decides).
+/// order, oriented with the body on its inner side. Cost O(F + E) (each silhouette plane is
+/// oriented by the exact sign of a vertex of its edge's faces; O(V) only when all of them lie
+/// on it).
 /// \pre body is convex (a piece of a decomposition, or a convex input).
 /// \throw InvalidInput if the body is flat.
 OcclusionVolume occlusion_volume(const Body& convex_body, const Viewpoint& view);
