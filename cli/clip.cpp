@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include "cli/info.h"
@@ -15,6 +16,7 @@
 #include "hedra/mesh/convexity.h"
 #include "hedra/decompose/decompose.h"
 #include "hedra/clip/cyrus_beck.h"
+#include "hedra/clip/polyhedron_clipper.h"
 #include "hedra/core/error.h"
 #include "hedra/baselines/midpoint_clip.h"
 #include "hedra/core/tolerance.h"
@@ -31,25 +33,13 @@ std::vector<Segment> read_segments(const std::string& path) {
   return parse_segments(path, io::read_file(path));
 }
 
-std::string face_list(const std::vector<int>& faces) {
-  std::string s;
-  for (size_t i = 0; i < faces.size() && i < 8; ++i)
-    s += (i ? ", " : "") + std::to_string(faces[i]);
-  if (faces.size() > 8) s += ", ...";
-  return s;
-}
-
-// One convex body, or several convex bodies taken as the pieces of one clipper.
-std::vector<ConvexClipper> read_clipper(const std::string& path, double& scale) {
-  // Every body of the file (scene or mesh) is part of the clipper; a non-convex one takes
-  // part through its exact convex decomposition, whose pieces share faces exactly, so the
-  // per-piece intervals join without gaps.
-  const std::vector<NamedBody> bodies = load_bodies(path);
+// The midpoint method's clipper: every convex body one piece, every non-convex one its exact
+// convex decomposition (midpoint subdivision needs convex pieces).
+std::vector<ConvexClipper> decomposed_pieces(const std::string& path,
+                                             const std::vector<NamedBody>& bodies) {
   std::vector<ConvexClipper> pieces;
-  scale = 0;
   for (const NamedBody& named : bodies) {
     const Body& body = named.body;
-    scale = std::max(scale, body.scale());
     if (is_convex(body)) {
       pieces.emplace_back(body);
       continue;
@@ -61,6 +51,20 @@ std::vector<ConvexClipper> read_clipper(const std::string& path, double& scale) 
     }
   }
   return pieces;
+}
+
+// The exact method's clipper: convex bodies through Cyrus–Beck, non-convex ones directly
+// against their triangles (PolyhedronClipper), without decomposition.
+SolidClipper solid_clipper(const std::string& path, const std::vector<NamedBody>& bodies) {
+  std::vector<Body> list;
+  list.reserve(bodies.size());
+  for (const NamedBody& named : bodies) {
+    if (named.body.two_sided())
+      throw InvalidInput(path + ": body '" + named.name + "': a two-sided polygon has no interior "
+                         "to clip against");
+    list.push_back(named.body);
+  }
+  return SolidClipper(list);
 }
 
 // Parts from midpoint subdivision of each piece, joined where they are within 2ε (each end is
@@ -108,10 +112,9 @@ void append_part(std::string& text, const Segment& s, const Vec3& a, const Vec3&
 
 CLI::App* add_clip_subcommand(CLI::App& app, ClipCommand& command) {
   CLI::App* clip = app.add_subcommand(
-      "clip", "Clip segments (x1 y1 z1 x2 y2 z2 per line) against a convex body or convex pieces");
+      "clip", "Clip segments (x1 y1 z1 x2 y2 z2 per line) against the bodies of a file");
   clip->add_option("--body", command.body_file,
-                   "scene or mesh file: one convex body, or several convex bodies as the pieces "
-                   "of one clipper")
+                   "scene or mesh file: every body of it is part of one clipper (convex or not)")
       ->required();
   clip->add_option("--segments", command.segments_file, "input segments, one per line")->required();
   clip->add_option("-o,--output", command.output_file,
@@ -126,53 +129,72 @@ CLI::App* add_clip_subcommand(CLI::App& app, ClipCommand& command) {
 }
 
 void run_clip(const ClipCommand& command, std::ostream& out) {
+  const std::vector<NamedBody> bodies = load_bodies(command.body_file);
   double scale = 0;
-  const std::vector<ConvexClipper> pieces = read_clipper(command.body_file, scale);
-  const std::vector<Segment> segments = read_segments(command.segments_file);
+  for (const NamedBody& named : bodies) scale = std::max(scale, named.body.scale());
   const bool midpoint = command.method == "midpoint";
+  const std::vector<ConvexClipper> pieces =
+      midpoint ? decomposed_pieces(command.body_file, bodies) : std::vector<ConvexClipper>{};
+  const std::optional<SolidClipper> solid =
+      midpoint ? std::nullopt : std::optional(solid_clipper(command.body_file, bodies));
+  const std::vector<Segment> segments = read_segments(command.segments_file);
   const double eps = command.eps > 0 ? command.eps : kMidpointEpsilon * std::max(scale, 1e-300);
 
   std::string text;
   size_t count = 0;
-  if (!midpoint && !command.outside && pieces.size() == 1) {
+  if (midpoint) {
+    for (const Segment& s : segments) {
+      std::vector<Interval> parts = midpoint_parts(pieces, s, eps);
+      if (command.outside) parts = complement(parts, s);
+      for (const Interval& p : parts)
+        append_part(text, s, point_at(s.p1, s.p2, p.t0), point_at(s.p1, s.p2, p.t1));
+      count += parts.size();
+    }
+  } else if (!command.outside && solid->convex_count() == 1 && solid->polyhedra().empty()) {
     // One convex clipper: the batch path (identical results to clip_segment, vectorized).
+    const ConvexClipper& clipper = solid->convex()[0];
     SegmentArrays batch;
     batch.reserve(segments.size());
     for (const Segment& s : segments) batch.push_back(s.p1, s.p2);
     BatchClipResult result;
-    clip_batch(pieces[0], batch, result);
+    clip_batch(clipper, batch, result);
     for (size_t i = 0; i < segments.size(); ++i) {
       if (!result.visible(i)) continue;
       // End points from the exact crossings, rounded once (not from the rounded t).
       const ClipPart part = result.part(i);
-      append_part(text, segments[i], end_point(pieces[0], part.start, segments[i].p1, segments[i].p2),
-                  end_point(pieces[0], part.end, segments[i].p1, segments[i].p2));
+      append_part(text, segments[i], end_point(clipper, part.start, segments[i].p1, segments[i].p2),
+                  end_point(clipper, part.end, segments[i].p1, segments[i].p2));
       ++count;
     }
   } else {
     for (const Segment& s : segments) {
-      if (midpoint) {
-        std::vector<Interval> parts = midpoint_parts(pieces, s, eps);
-        if (command.outside) parts = complement(parts, s);
-        for (const Interval& p : parts)
-          append_part(text, s, point_at(s.p1, s.p2, p.t0), point_at(s.p1, s.p2, p.t1));
-        count += parts.size();
-      } else {
-        const std::vector<ClipPart> parts = command.outside
-                                                ? clip_segment_outside(pieces, s.p1, s.p2)
-                                                : clip_segment(pieces, s.p1, s.p2);
-        for (const ClipPart& p : parts)
-          append_part(text, s, end_point(pieces, p.start, s.p1, s.p2),
-                      end_point(pieces, p.end, s.p1, s.p2));
-        count += parts.size();
-      }
+      const std::vector<ClipPart> parts =
+          command.outside ? solid->clip_outside(s.p1, s.p2) : solid->clip(s.p1, s.p2);
+      for (const ClipPart& p : parts)
+        append_part(text, s, solid->end_point(p.start, s.p1, s.p2),
+                    solid->end_point(p.end, s.p1, s.p2));
+      count += parts.size();
     }
   }
   io::write_file_atomically(command.output_file, text);
   out << "wrote " << command.output_file << " (" << count << (count == 1 ? " part" : " parts")
       << " of " << segments.size() << (segments.size() == 1 ? " segment" : " segments") << ", "
-      << (command.outside ? "outside" : "inside") << " " << pieces.size()
-      << (pieces.size() == 1 ? " convex piece" : " convex pieces") << ", " << command.method;
+      << (command.outside ? "outside" : "inside") << " ";
+  // What the segments were clipped against: convex pieces (Cyrus–Beck or midpoint) and, for
+  // the exact method, non-convex bodies clipped directly against their triangles.
+  const size_t convex = midpoint ? pieces.size() : solid->convex().size();
+  const size_t direct = midpoint ? 0 : solid->polyhedra().size();
+  if (convex > 0 || direct == 0)
+    out << convex << (convex == 1 ? " convex piece" : " convex pieces");
+  if (direct > 0) {
+    size_t triangles = 0;
+    for (const PolyhedronClipper& p : solid->polyhedra())
+      triangles += static_cast<size_t>(p.triangle_count());
+    out << (convex > 0 ? " and " : "") << direct
+        << (direct == 1 ? " non-convex body" : " non-convex bodies") << " (" << triangles
+        << " triangles, not decomposed)";
+  }
+  out << ", " << command.method;
   if (midpoint) out << ", eps " << eps;
   out << ")\n";
 }

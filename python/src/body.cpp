@@ -226,34 +226,32 @@ py::array_t<double> clip_segments(const py::handle& bodies_value, const py::hand
   std::vector<double> out;
   {
     py::gil_scoped_release release;
-    // As the command: convex bodies are one piece each, non-convex ones their exact pieces.
-    std::vector<ConvexClipper> pieces;
-    for (const Body& body : bodies) {
-      if (is_convex(body)) {
-        pieces.emplace_back(body);
-        continue;
-      }
-      for (const Body& piece : decompose(body).pieces) pieces.emplace_back(piece);
-    }
+    // As the command: convex bodies through Cyrus–Beck, non-convex ones directly against
+    // their triangles (no decomposition).
+    const SolidClipper solid(bodies);
     // End points as the command writes them: exact crossings rounded once (end_point).
-    auto emit = [&](size_t i, const ClipPart& part) {
-      const Vec3 a = end_point(pieces, part.start, segments[i].first, segments[i].second);
-      const Vec3 b = end_point(pieces, part.end, segments[i].first, segments[i].second);
+    auto emit = [&](size_t i, const Vec3& a, const Vec3& b) {
       out.insert(out.end(), {a.x(), a.y(), a.z(), b.x(), b.y(), b.z(), static_cast<double>(i)});
     };
-    if (!outside && pieces.size() == 1) {
+    if (!outside && solid.convex_count() == 1 && solid.polyhedra().empty()) {
+      const ConvexClipper& clipper = solid.convex()[0];
       SegmentArrays batch;
       batch.reserve(segments.size());
       for (const auto& s : segments) batch.push_back(s.first, s.second);
       BatchClipResult result;
-      clip_batch(pieces[0], batch, result);
-      for (size_t i = 0; i < segments.size(); ++i)
-        if (result.visible(i)) emit(i, result.part(i));
+      clip_batch(clipper, batch, result);
+      for (size_t i = 0; i < segments.size(); ++i) {
+        if (!result.visible(i)) continue;
+        const ClipPart part = result.part(i);
+        const auto& [p1, p2] = segments[i];
+        emit(i, end_point(clipper, part.start, p1, p2), end_point(clipper, part.end, p1, p2));
+      }
     } else {
       for (size_t i = 0; i < segments.size(); ++i) {
-        const auto parts = outside ? clip_segment_outside(pieces, segments[i].first, segments[i].second)
-                                   : clip_segment(pieces, segments[i].first, segments[i].second);
-        for (const ClipPart& p : parts) emit(i, p);
+        const auto& [p1, p2] = segments[i];
+        const auto parts = outside ? solid.clip_outside(p1, p2) : solid.clip(p1, p2);
+        for (const ClipPart& p : parts)
+          emit(i, solid.end_point(p.start, p1, p2), solid.end_point(p.end, p1, p2));
       }
     }
   }

@@ -10,6 +10,7 @@
 #include "hedra/clip/batch_clip.h"
 #include "hedra/clip/convex_clipper.h"
 #include "hedra/clip/cyrus_beck.h"
+#include "hedra/clip/polyhedron_clipper.h"
 #include "hedra/decompose/decompose.h"
 #include "hedra/io/mesh_io.h"
 #include "hedra/io/scene_json.h"
@@ -93,6 +94,19 @@ void commands(const Scene& scene) {
     const Vec3 centre = box.center();
     const std::pair<Vec3, Vec3> segments[] = {
         {lo, hi}, {Vec3(lo.x(), hi.y(), lo.z()), Vec3(hi.x(), lo.y(), hi.z())}, {centre, centre}};
+    if (!c.convex) {
+      // hedra clip's exact path for a non-convex body: directly against its triangles.
+      fuzz::rejecting_cleanly([&] {
+        const PolyhedronClipper direct(b->body);
+        for (const auto& [p, q] : segments) {
+          for (const ClipPart& part : clip_segment(direct, p, q)) {
+            (void)end_point(direct, part.start, p, q);
+            (void)end_point(direct, part.end, p, q);
+          }
+          (void)clip_segment_outside(direct, p, q);
+        }
+      });
+    }
     if (pieces.empty()) continue;
     const std::span<const ConvexClipper> all(pieces);
     SegmentArrays batch;

@@ -33,6 +33,7 @@
 #include "hedra/clip/convex_clipper.h"
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/clip/polygon_clip.h"
+#include "hedra/clip/polyhedron_clipper.h"
 
 // scene
 #include "hedra/scene/camera.h"
