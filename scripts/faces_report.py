@@ -96,6 +96,25 @@ def faces_scaling(results, docs, quick=False):
                   "`hlr`, `shadows` and `render` go through its exact convex decomposition (each given "
                   "120 s here).", ""]
 
+    # Star prisms: decomposition and rendering of many reflex edges.
+    stars = sorted((e for e in data["entries"] if e["case"] == "star"), key=lambda e: e["t"])
+    if stars:
+        lines += ["### Star prisms", "",
+                  "A prism over an n-point star (radii 1 and 0.5, n/2 reflex vertical edges) on a "
+                  "ground slab, one point light; whole processes with `--threads 1`: `decompose` of "
+                  "the scene (the star's exact convex pieces) and `render --shadows exact`. CPU "
+                  "seconds, peak MB.", "",
+                  "| n | pieces | `decompose` CPU s | peak MB | `render` CPU s | peak MB |",
+                  "|---|---|---|---|---|---|"]
+        for e in stars:
+            d, r = e["runs"].get("decompose", {}), e["runs"].get("render", {})
+            def cell(x):
+                if x.get("rc") != 0:
+                    return "✗ | –"
+                return f"{x['cpu_s']:.3g} | {(x.get('peak_kb') or 0) / 1024:.0f}"
+            lines.append(f"| {e['t']} | {d.get('pieces', '–')} | {cell(d)} | {cell(r)} |")
+        lines.append("")
+
     # Hidden lines beside OCCT HLRBRep_PolyAlgo at the same chordal tolerance.
     bench_path = os.path.join(results, "faces_bench.json")
     if os.path.exists(bench_path):
