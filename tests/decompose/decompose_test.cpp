@@ -109,7 +109,9 @@ TEST(Decompose, PiecesCarryTheExactPlanesOfTheInput) {
             exact += m.side(c, p) == Sign::Zero;
           }
           EXPECT_GE(on, 3) << name << " piece " << k << " plane " << c;
-          if (!rotate && shape.name.find("star") == std::string::npos) EXPECT_GE(exact, 3) << name << " piece " << k;
+          if (!rotate && shape.name.find("star") == std::string::npos) {
+            EXPECT_GE(exact, 3) << name << " piece " << k;
+          }
         }
       }
     }

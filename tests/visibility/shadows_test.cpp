@@ -550,7 +550,9 @@ TEST(Shadows, AgreeWithRayCastingOnRandomScenes) {
             ADD_FAILURE() << "scene " << scene_no << " body " << b << " face " << f << " at "
                           << p.transpose() << ": ray " << ray << ", polygons " << poly;
           }
-          if (k % 10 == 0) EXPECT_EQ(in_shadow(s, light, static_cast<int>(b), f, p), ray);
+          if (k % 10 == 0) {
+            EXPECT_EQ(in_shadow(s, light, static_cast<int>(b), f, p), ray);
+          }
         }
       }
     }
@@ -624,8 +626,9 @@ TEST(Shadows, SunStudyOverADay) {
   // Berlin at midsummer: the sun's centre is up about 16 h 40 min.
   EXPECT_NEAR(up_hours, 16.7, 0.25);
   for (const SunStep& step : st.steps)
-    if (!step.sun_up)
+    if (!step.sun_up) {
       for (double f : step.lit_fraction) EXPECT_EQ(f, 0);
+    }
   // The tower's roof is never shaded: lit whenever the sun is up.
   const int roof = st.first_face[1] + kZMax;
   EXPECT_NEAR(st.sun_hours[static_cast<size_t>(roof)], up_hours, 1e-9);

@@ -431,8 +431,8 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
     } else if (!thin) {
       double best = -1;
       for (int id : candidates[t]) {
-        const double a = std::abs(normal[t].normalized().dot(ctx.approx[id].normal()));
-        if (a > best) best = a, plane[t] = id;
+        const double along = std::abs(normal[t].normalized().dot(ctx.approx[id].normal()));
+        if (along > best) best = along, plane[t] = id;
       }
     }
   }
