@@ -55,13 +55,16 @@ using internal::UnionFind;
 
 // Exact signed area of a loop, twice, projected along coordinate axis `axis` (right-handed
 // about that axis).
-EK::FT projected_area2(const std::vector<const EK::Point_3*>& loop, int axis) {
+// Summed in the exact number type: a lazy sum built one node per term recurses once per term
+// when evaluated (a stack overflow for loops of many thousand points).
+EK::FT::ET projected_area2(const std::vector<const EK::Point_3*>& loop, int axis) {
   const int u = (axis + 1) % 3, w = (axis + 2) % 3;
-  EK::FT sum = 0;
+  EK::FT::ET sum = 0;
   for (size_t i = 0; i < loop.size(); ++i) {
     const EK::Point_3& a = *loop[i];
     const EK::Point_3& b = *loop[(i + 1) % loop.size()];
-    sum += a.cartesian(u) * b.cartesian(w) - b.cartesian(u) * a.cartesian(w);
+    sum += CGAL::exact(a.cartesian(u)) * CGAL::exact(b.cartesian(w)) -
+           CGAL::exact(b.cartesian(u)) * CGAL::exact(a.cartesian(w));
   }
   return sum;
 }

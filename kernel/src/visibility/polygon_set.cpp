@@ -57,10 +57,12 @@ UnionResult result_of(const PolygonSet& s, bool want_polygons) {
   UnionResult out;
   std::vector<PolygonWithHoles> pwh;
   s.polygons_with_holes(std::back_inserter(pwh));
-  K::FT total = 0;
+  // Sums in the exact number type (a lazy sum over many polygons is a chain one node per term,
+  // and its evaluation recurses once per term).
+  K::FT::ET total = 0;
   for (const PolygonWithHoles& p : pwh) {
-    K::FT a = p.outer_boundary().area();
-    for (auto h = p.holes_begin(); h != p.holes_end(); ++h) a += h->area();  // clockwise: < 0
+    K::FT::ET a = CGAL::exact(p.outer_boundary().area());
+    for (auto h = p.holes_begin(); h != p.holes_end(); ++h) a += CGAL::exact(h->area());  // clockwise: < 0
     total += a;
     if (!want_polygons) continue;
     PolygonWithHoles2 q;
