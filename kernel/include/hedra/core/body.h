@@ -136,13 +136,14 @@ class Body {
   /// True for two_sided_polygon() bodies.
   bool two_sided() const;
 
-  /// Memo of hedra/mesh/convexity.h's is_convex() verdict, shared by copies (the geometry is
-  /// immutable, so the verdict is too): −1 until first decided, then 0 or 1. Thread-safe.
+ private:
+  // Memo of hedra/mesh/convexity.h's is_convex() verdict, shared by copies (the geometry is
+  // immutable, so the verdict is too): −1 until first decided, then 0 or 1. Thread-safe.
+  // Private: only is_convex() may read or record it, so no caller can plant a wrong verdict.
+  friend bool is_convex(const Body& body);
   int convexity_memo() const;
-  /// Records is_convex()'s verdict (only is_convex() calls it).
   void set_convexity_memo(bool convex) const;
 
- private:
   struct Impl;
   explicit Body(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
   std::shared_ptr<const Impl> impl_;
