@@ -39,25 +39,6 @@ struct Piece {
   bool triangle;  // the piece is exactly its triple
 };
 
-// orient3d with a static filter first: the sign of the double determinant when it exceeds
-// Shewchuk's error bound for orient3d ((7 + 56ε)ε times the permanent; 1e-14 leaves a wide
-// margin), the exact predicate otherwise. Most calls here are far from degenerate.
-Sign orient(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const Vec3 u = b - a, v = c - a, w = d - a;
-  const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
-               m2 = v.x() * w.y() - v.y() * w.x();
-  const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
-  const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
-                           std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
-                           std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
-  if (permanent > 1e-250 && permanent < 1e250) {
-    const double bound = 1e-14 * permanent;
-    if (det > bound) return Sign::Positive;
-    if (det < -bound) return Sign::Negative;
-  }
-  return orient3d(a, b, c, d);
-}
-
 // The exact 2D orientation of a, b, c projected along coordinate axis `drop`.
 Sign orient_projected(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
   const int i = (drop + 1) % 3, j = (drop + 2) % 3;
@@ -95,11 +76,11 @@ class Certificate {
       if (face.loops.size() != 1 || face.loops[0].size() != 4) return Verdict::Unknown;
       const auto& q = face.loops[0];
       // Diagonal q0–q2 is convex when q3 is strictly inside plane (q0, q1, q2); else try q1–q3.
-      if (orient(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
+      if (orient3d(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
         split_[static_cast<size_t>(f)] = 1;
         pieces_.push_back({{q[0], q[1], q[2]}, f, true});
         pieces_.push_back({{q[0], q[2], q[3]}, f, true});
-      } else if (orient(p(q[0]), p(q[1]), p(q[3]), p(q[2])) == Sign::Negative) {
+      } else if (orient3d(p(q[0]), p(q[1]), p(q[3]), p(q[2])) == Sign::Negative) {
         split_[static_cast<size_t>(f)] = 2;
         pieces_.push_back({{q[0], q[1], q[3]}, f, true});
         pieces_.push_back({{q[1], q[2], q[3]}, f, true});
@@ -122,7 +103,7 @@ class Certificate {
       int w = -1;
       bool left = true;
       if (!witness(g1, e.v1, e.v0, w, left)) return Verdict::Unknown;
-      Sign side = orient(p(f1.triple[0]), p(f1.triple[1]), p(f1.triple[2]), p(w));
+      Sign side = orient3d(p(f1.triple[0]), p(f1.triple[1]), p(f1.triple[2]), p(w));
       if (!left) side = -side;
       if (side == Sign::Positive) return reflex(e.left_face, e.right_face);
       if (side == Sign::Zero && !same_orientation(f1, g1)) return Verdict::Unknown;  // folded
@@ -133,7 +114,7 @@ class Certificate {
     for (const Vec3& x : v_) sum += x;
     const Vec3 o = sum / static_cast<double>(v_.size());
     for (const Piece& piece : pieces_)
-      if (orient(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
+      if (orient3d(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
         return Verdict::Unknown;
 
     // Stage 4: the surface winds once around o.
@@ -158,7 +139,7 @@ class Certificate {
     for (const auto& loop : face.loops)
       for (int x : loop)
         if (x != s[0] && x != s[1] && x != s[2] &&
-            orient(p(s[0]), p(s[1]), p(s[2]), p(x)) != Sign::Zero)
+            orient3d(p(s[0]), p(s[1]), p(s[2]), p(x)) != Sign::Zero)
           return false;
     return true;
   }
@@ -225,7 +206,7 @@ class Certificate {
     };
     for (const auto& loop : faces_[static_cast<size_t>(g)].loops)
       for (int x : loop)
-        if (orient(p(s[0]), p(s[1]), p(s[2]), p(x)) == Sign::Positive && !on_f(x))
+        if (orient3d(p(s[0]), p(s[1]), p(s[2]), p(x)) == Sign::Positive && !on_f(x))
           return Verdict::NotConvex;
     return Verdict::Unknown;
   }
@@ -239,7 +220,7 @@ class Certificate {
     constexpr double kPi = 3.14159265358979323846;
     double total = 0, error = 0;
     auto add = [&](int ia, int ib, int ic) {
-      const Sign s = orient(p(ia), p(ib), p(ic), o);
+      const Sign s = orient3d(p(ia), p(ib), p(ic), o);
       if (s == Sign::Zero) return true;  // a fan triangle over collinear vertices
       const Vec3 a = p(ia) - o, b = p(ib) - o, c = p(ic) - o;
       const double la = a.norm(), lb = b.norm(), lc = c.norm();
@@ -291,7 +272,7 @@ class Certificate {
   bool rounded_face_convex(int f) const {
     const auto& s = body_.support(f);
     const auto& q = faces_[static_cast<size_t>(f)].loops[0];
-    auto phi = [&](int x) { return orient(p(s[0]), p(s[1]), p(s[2]), p(x)); };
+    auto phi = [&](int x) { return orient3d(p(s[0]), p(s[1]), p(s[2]), p(x)); };
     auto on_f = [&](int x) { return x == q[0] || x == q[1] || x == q[2] || x == q[3]; };
     auto star = [&](int x) {
       for (int i = start_[static_cast<size_t>(x)]; i < start_[static_cast<size_t>(x) + 1]; ++i)
@@ -401,7 +382,7 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
     const auto& s = body.support(f);
     const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
                &c = v[static_cast<size_t>(s[2])];
-    auto phi = [&](int x) { return orient(a, b, c, v[static_cast<size_t>(x)]); };
+    auto phi = [&](int x) { return orient3d(a, b, c, v[static_cast<size_t>(x)]); };
     bool own_outside = false;
     for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
       for (int x : loop) {

@@ -44,25 +44,6 @@ bool segment_meets_box(const Vec2& a, const Vec2& b, const Eigen::AlignedBox2d& 
   return pos > 0 && neg > 0;
 }
 
-// orient3d(a, b, c, d) with Shewchuk's static filter first (his bound for the double
-// determinant of the rounded differences is (7 + 56ε)ε times the permanent; 1e-14 leaves a wide
-// margin), the exact predicate otherwise: most edges join faces far from coplanar.
-Sign orient_filtered(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-  const Vec3 u = b - a, v = c - a, w = d - a;
-  const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
-               m2 = v.x() * w.y() - v.y() * w.x();
-  const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
-  const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
-                           std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
-                           std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
-  if (permanent > 1e-250 && permanent < 1e250) {
-    const double bound = 1e-14 * permanent;
-    if (det > bound) return Sign::Positive;
-    if (det < -bound) return Sign::Negative;
-  }
-  return orient3d(a, b, c, d);
-}
-
 }  // namespace
 
 HlrResult Roberts::run() {
@@ -549,7 +530,7 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     bool coplanar = true;
     for (int k : body.support(edge.right_face))
       coplanar = coplanar && (k == sl[0] || k == sl[1] || k == sl[2] ||
-                              orient_filtered(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
+                              orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
                                               v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero);
     // A two-sided face's edges join its two faces, which share one plane: all are drawn.
     if ((coplanar && !body.two_sided()) || end_on(p1, p2)) continue;
