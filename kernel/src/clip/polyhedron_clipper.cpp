@@ -10,6 +10,7 @@
 #include <limits>
 #include <optional>
 
+#include "core/filtered_sign.h"
 #include "hedra/core/error.h"
 #include "hedra/core/tolerance.h"
 #include "hedra/mesh/convexity.h"
@@ -27,22 +28,8 @@ void check_point(const Vec3& p) {
   throw InvalidInput(buf);
 }
 
-Sign to_sign(CGAL::Sign s) { return static_cast<Sign>(static_cast<int>(s)); }
-
-// Sign of expr(T) for T = interval (under upward rounding) and, when the interval does not
-// decide, for T = CGAL::Mpzf, exactly (every value below is a polynomial in doubles).
-template <class Expr>
-Sign filtered_sign(const Expr& expr) {
-  using Interval = CGAL::Interval_nt_advanced;
-  {
-    CGAL::Protect_FPU_rounding<true> guard;
-    const Interval v = expr(Interval(0));
-    if (v.inf() > 0) return Sign::Positive;
-    if (v.sup() < 0) return Sign::Negative;
-    if (v.inf() == 0 && v.sup() == 0) return Sign::Zero;
-  }
-  return to_sign(CGAL::sign(expr(CGAL::Mpzf(0))));
-}
+using internal::filtered_sign;
+using internal::to_sign;
 
 // The side of edge a → b that the line p1 → p2 passes after the translation by
 // δ = ε·e_x + ε²·e_y + ε³·e_z (ε → 0), when it meets the edge's line exactly

@@ -1,5 +1,7 @@
 #include "hedra/core/predicates.h"
 
+#include "core/filtered_sign.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interval_nt.h>
 #include <CGAL/Mpzf.h>
@@ -19,7 +21,7 @@ using K = CGAL::Exact_predicates_inexact_constructions_kernel;
 K::Point_3 cg(const Vec3& p) { return {p.x(), p.y(), p.z()}; }
 K::Point_2 cg(const Vec2& p) { return {p.x(), p.y()}; }
 
-Sign to_sign(CGAL::Sign s) { return static_cast<Sign>(static_cast<int>(s)); }
+using internal::to_sign;
 
 int dominant_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
   Vec3 n = (b - a).cross(c - a);
@@ -180,19 +182,7 @@ constexpr double kBoundInflation = 1 + 8 * kUnit;
 
 using Interval = CGAL::Interval_nt_advanced;
 
-// Sign of an expression evaluated by `expr(T())` for T = Interval (under upward rounding)
-// and, when the interval contains zero without being zero, for T = CGAL::Mpzf, exactly.
-template <class Expr>
-Sign filtered_sign(const Expr& expr) {
-  {
-    CGAL::Protect_FPU_rounding<true> guard;
-    const Interval v = expr(Interval(0));
-    if (v.inf() > 0) return Sign::Positive;
-    if (v.sup() < 0) return Sign::Negative;
-    if (v.inf() == 0 && v.sup() == 0) return Sign::Zero;
-  }
-  return to_sign(CGAL::sign(expr(CGAL::Mpzf(0))));
-}
+using internal::filtered_sign;
 
 // Radius that surely covers |x − mid| for x in [inf, sup]: the exact difference rounded to
 // nearest can be half an ulp short; (1 + 4u) makes up for it.
