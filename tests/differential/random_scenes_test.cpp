@@ -129,7 +129,7 @@ TEST(Differential, BooleansKeepTheVolumeIdentities) {
 // input's own face planes), not the pieces rounded to double, whose faces can be an ulp off a
 // reflex edge (or, from the convex-hull fallback, sliver faces); hidden lines decide incidence
 // with the exact pieces too (docs/design.md, "Exact incidence of pieces").
-void check_hidden_lines(std::uint64_t seed) {
+void check_hidden_lines(std::uint64_t seed, Occluders occluders = Occluders::Auto) {
   std::mt19937_64 rng(seed);
   std::vector<Body> bodies;
   std::vector<std::pair<std::vector<Plane>, std::vector<Vec3>>> parts;
@@ -146,6 +146,7 @@ void check_hidden_lines(std::uint64_t seed) {
   HlrOptions o;
   o.merge_coincident = false;
   o.crease_angle = 0;  // every edge is drawn as an edge (the reference knows no line classes)
+  o.occluders = occluders;
   const HlrResult r = hidden_lines(bodies, camera, o);
   const testing::RayCastReference reference(std::span<const std::pair<std::vector<Plane>, std::vector<Vec3>>>(parts), camera);
   double expected = 0;
@@ -158,7 +159,15 @@ void check_hidden_lines(std::uint64_t seed) {
   EXPECT_NEAR(r.length(LineKind::Edge), expected, 1e-9 * expected);
 }
 
-TEST(Differential, HiddenLinesMatchRayCasting) { for_each_case(4, 40, check_hidden_lines); }
+TEST(Differential, HiddenLinesMatchRayCasting) {
+  for_each_case(4, 40, [](std::uint64_t seed) { check_hidden_lines(seed); });
+}
+
+// The same scenes with every non-convex body occluding by its faces' triangles
+// (Occluders::Faces, which bodies of more than kFaceOccluderFaces faces get): the same lengths.
+TEST(Differential, HiddenLinesByFacesMatchRayCasting) {
+  for_each_case(7, 40, [](std::uint64_t seed) { check_hidden_lines(seed, Occluders::Faces); });
+}
 
 // Seeds `make stress` found with the non-convex families: 4000015, an edge of a comb on a face
 // coplanar with another face of its body, hidden by an ulp of a rounded piece (the old
@@ -194,6 +203,38 @@ TEST(Differential, GroundShadowAreaMatchesTheExactPolygonUnion) {
     const ShadowResult r = compute_shadows(scene);
     const double reference = testing::ground_shadow_reference(casters, d, half);
     EXPECT_NEAR(r.face(0, 0, 5).shadow_area, reference, 1e-11 * reference);  // face 5: the top, z = 0
+  });
+}
+
+// Shadows with non-convex bodies occluding by their faces' triangles (Occluders::Faces) equal
+// those by their exact convex pieces, face by face, under a point light (the angular caster
+// index) and a directional one: both are exact for the same polyhedra.
+TEST(Differential, ShadowsByFacesEqualShadowsByPieces) {
+  for_each_case(8, 20, [](std::uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    Scene scene;
+    scene.add("ground", box({-10, -10, -1}, {10, 10, 0}));
+    for (int i = 0; i < 5; ++i) {
+      Body b = testing::random_solid(rng, static_cast<int>((seed + i) % 5), 2, random_point(rng, -5, 5));
+      b = b.translated({0, 0, 0.1 - b.bbox().min().z() + 2 * std::abs(random_point(rng, 0, 1).z())});
+      scene.add("b" + std::to_string(i), b);
+    }
+    std::uniform_real_distribution<double> u(-1, 1);
+    Vec3 d = testing::draw3(rng, u);
+    d.z() = -0.4 - std::abs(d.z());
+    scene.lights.push_back(seed % 2 ? Light::directional(d) : Light::point(Vec3(0, 0, 2) - 12 * d.normalized()));
+    ShadowOptions pieces, faces;
+    pieces.occluders = Occluders::Pieces;
+    faces.occluders = Occluders::Faces;
+    const ShadowResult a = compute_shadows(scene, pieces), b = compute_shadows(scene, faces);
+    ASSERT_EQ(a.lights[0].faces.size(), b.lights[0].faces.size());
+    int shaded = 0;
+    for (size_t i = 0; i < a.lights[0].faces.size(); ++i) {
+      const FaceShadow &x = a.lights[0].faces[i], &y = b.lights[0].faces[i];
+      EXPECT_NEAR(x.shadow_area, y.shadow_area, 1e-9 * x.area) << "body " << x.body << " face " << x.face;
+      shaded += x.shadow_area > 0 && x.shadow_area < x.area;
+    }
+    EXPECT_GT(shaded, 0);
   });
 }
 

@@ -322,6 +322,12 @@ Sign side_of_plane(const ExactPlane& f, const Vec3& p) {
   const double v = f.value(p), bound = f.error_bound(p.cwiseAbs().maxCoeff());
   if (v > bound) return Sign::Positive;
   if (v < -bound) return Sign::Negative;
+  // One of the plane's own defining points (a vertex shared by neighbouring faces, an edge end
+  // on a silhouette plane through it) lies on it: zero without exact arithmetic.
+  if (f.by_points()) {
+    const auto& q = f.points();
+    if (p == q[0] || p == q[1] || (!f.by_direction() && p == q[2])) return Sign::Zero;
+  }
   return filtered_sign([&](auto zero) { return exact_plane_value<decltype(zero)>(f, p); });
 }
 

@@ -188,6 +188,7 @@ void Roberts::prepare_bodies() {
   // from the exact decomposition. Bodies in parallel, results in body order.
   struct BodyPieces {
     std::vector<Body> pieces;
+    std::vector<int> faces;  // faceted: the face of each piece
     std::vector<std::vector<std::pair<int, int>>> planes;  // Decomposition::piece_planes
     std::vector<HlrFacet> facets;
     std::string error;
@@ -210,6 +211,25 @@ void Roberts::prepare_bodies() {
       meter_.add();
       if (bd.convex) {
         per_body[b].pieces.push_back(body);
+        continue;
+      }
+      if (!brute && occludes_by_faces(body, options_.occluders)) {
+        // Closed, seen from outside: the faces turned to the viewpoint hide everything the body
+        // hides (hedra/visibility/occlusion.h, Occluders::Faces).
+        bd.faceted = true;
+        std::vector<int> front;
+        for (int f = 0; f < body.face_count(); ++f)
+          if (bd.facing[static_cast<size_t>(f)] == Facing::Front) front.push_back(f);
+        for (FaceTriangle& t : face_triangles_of(body, front)) {
+          per_body[b].pieces.push_back(std::move(t.triangle));
+          per_body[b].faces.push_back(t.face);
+        }
+        if (bd.any_smooth) {
+          bd.vertex_faces.assign(static_cast<size_t>(body.vertex_count()), {});
+          for (int f = 0; f < body.face_count(); ++f)
+            for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
+              for (int v : loop) bd.vertex_faces[static_cast<size_t>(v)].push_back(f);
+        }
         continue;
       }
       try {
@@ -239,6 +259,7 @@ void Roberts::prepare_bodies() {
   for (size_t b = 0; b < n; ++b) {
     for (size_t k = 0; k < per_body[b].pieces.size(); ++k) {
       pieces_.emplace_back(static_cast<int>(b), std::move(per_body[b].pieces[k]));
+      if (k < per_body[b].faces.size()) pieces_.back().face = per_body[b].faces[k];
       const InputPlanes& model = data_[b].input_planes;
       if (k >= per_body[b].planes.size() || model.empty()) continue;
       // The exact piece's front faces: the viewpoint strictly on the outer side of the plane.
@@ -257,7 +278,7 @@ void Roberts::prepare_bodies() {
     for (size_t i = begin; i != end; ++i) {
       HlrPiece& p = pieces_[i];
       const HlrBody& bd = data_[static_cast<size_t>(p.body)];
-      if (bd.convex) {
+      if (bd.convex && p.face < 0) {
         p.volume = occlusion_volume(p.piece, bd.facing, view_);
       } else {
         piece_facing.clear();
@@ -557,7 +578,11 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     // own body that it lies on (see incident()).
     const auto keep = [&](const HlrPiece& o) {
       if (o.body == skip) return false;
-      return o.body != b || !edge_incident(o, edge.v0, edge.v1, edge.left_face, edge.right_face);
+      if (o.body != b) return true;
+      // A triangle of one of the edge's own faces: the edge lies on the face, not behind it
+      // (a face planar only within rounding: its triangles are an ulp off each other).
+      if (o.face >= 0) return o.face != edge.left_face && o.face != edge.right_face;
+      return !edge_incident(o, edge.v0, edge.v1, edge.left_face, edge.right_face);
     };
     visible_parts(p1, p2, keep, scratch, out);
     const std::vector<TInterval>& visible = scratch.result;
@@ -592,14 +617,28 @@ void Roberts::outline_of(int b, Scratch& scratch, EdgeOutput& out) const {
   const std::vector<OutlineSegment> segments =
       outline(body, view_, options_.crease_angle, surface(b));
   out.stats.outline_segments += static_cast<int>(segments.size());
+  std::vector<int> near;
   for (const OutlineSegment& s : segments) {
     if (s.a == s.b || end_on(s.a, s.b)) continue;
     // The outline lies on the body's surface where the view ray grazes it: a convex body never
     // hides it (as its silhouette edges); a piece of a non-convex body that has the segment's
     // face on its boundary neither (the contour is on its silhouette up to the chordal error).
     const Vec3 n = -body.inner_normal(s.face);
+    // Faceted: the faces within two rings of the segment's face approximate the smooth surface
+    // the outline lies on (within the chordal error), so they do not hide it: near the
+    // silhouette a face turned away lies under its neighbours in the picture by that error.
+    near.clear();
+    if (bd.faceted) {
+      for (int v : body.faces()[static_cast<size_t>(s.face)].loops[0])
+        for (int g : bd.vertex_faces[static_cast<size_t>(v)])
+          for (int w : body.faces()[static_cast<size_t>(g)].loops[0])
+            for (int h : bd.vertex_faces[static_cast<size_t>(w)]) near.push_back(h);
+      std::sort(near.begin(), near.end());
+      near.erase(std::unique(near.begin(), near.end()), near.end());
+    }
     const auto keep = [&](const HlrPiece& o) {
       if (o.body != b) return true;
+      if (o.face >= 0) return !std::binary_search(near.begin(), near.end(), o.face);
       return !bd.convex && !outline_on_piece(o, n, s.a, s.b);
     };
     visible_parts(s.a, s.b, keep, scratch, out);

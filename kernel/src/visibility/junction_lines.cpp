@@ -126,7 +126,8 @@ void Roberts::junctions() {
   // Faces facing strictly away of each convex body: junctions on them are hidden by the body.
   std::vector<std::vector<bool>> back(bodies_.size());
   for (size_t b = 0; b < bodies_.size(); ++b) {
-    if (!data_[b].convex) continue;
+    // A faceted body is closed too: a face turned away lies behind the faces turned to the eye.
+    if (!data_[b].convex && !data_[b].faceted) continue;
     back[b].resize(data_[b].facing.size());
     for (size_t f = 0; f < back[b].size(); ++f) back[b][f] = data_[b].facing[f] == Facing::Back;
   }
@@ -144,6 +145,9 @@ void Roberts::junctions() {
       fill_candidates(ids, [&](const HlrPiece& o) {
         // A convex body's own volume decides exactly (the junction lies exactly on its
         // face's support plane); a piece of a non-convex one only if not incident.
+        // A triangle of a faceted body: any but those of the junction's own face.
+        if (o.face >= 0 && o.body == i) return o.face != fa;
+        if (o.face >= 0 && o.body == j) return o.face != fb;
         if (o.body == i) return data_[static_cast<size_t>(i)].convex || !face_incident(o, fa, a, b);
         if (o.body == j) return data_[static_cast<size_t>(j)].convex || !face_incident(o, fb, a, b);
         return true;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "hedra/core/error.h"
+#include "hedra/core/predicates.h"
 
 namespace hedra {
 
@@ -167,6 +168,28 @@ bool hides(const OcclusionVolume& volume, const Vec3& p) {
   for (const ExactPlane& f : volume.clipper->planes())
     if (side_of_plane(f, p) != Sign::Positive) return false;
   return true;
+}
+
+}  // namespace hedra
+
+namespace hedra {
+
+std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<int>& faces) {
+  std::vector<char> wanted(static_cast<size_t>(body.face_count()), 0);
+  for (int f : faces) wanted[static_cast<size_t>(f)] = 1;
+  std::vector<FaceTriangle> out;
+  out.reserve(faces.size());
+  const auto& v = body.vertices();
+  for (const Triangle& t : body.triangles()) {
+    if (!wanted[static_cast<size_t>(t.face)]) continue;
+    std::vector<Vec3> corners{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
+                              v[static_cast<size_t>(t.v[2])]};
+    // Input points: exactly planar. A triangle the face's triangulation made with exactly
+    // collinear corners (it has none by contract) would hide nothing: skipped.
+    if (collinear(corners[0], corners[1], corners[2])) continue;
+    out.push_back({t.face, Body::two_sided_polygon(std::move(corners))});
+  }
+  return out;
 }
 
 }  // namespace hedra

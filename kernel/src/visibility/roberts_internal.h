@@ -108,6 +108,8 @@ struct HlrPiece {
   // `exact` false when the decomposition gave none (then the rounded tests decide).
   std::vector<int> front_planes;
   bool exact = false;
+  // A triangle of a face of a body that occludes by its faces (Occluders::Faces): that face.
+  int face = -1;
   detail::PieceOccluder occluder;
   Eigen::AlignedBox2d box;
   double near = 0;  // least depth, minus the margin
@@ -127,6 +129,11 @@ struct HlrBody {
   std::deque<ExactPlane> planes;   // exact face planes (junctions), built on demand (stable)
   std::vector<int> plane_slot;     // per face: its index in planes, −1 not built yet
   InputPlanes input_planes;        // a non-convex body: its decomposition's exact planes
+  // A non-convex body occluding by its faces (Occluders::Faces): its pieces are the triangles
+  // of its faces turned to the viewpoint (HlrPiece::face).
+  bool faceted = false;
+  // faceted, with outlines: per vertex, the faces around it (outline_of's neighbourhood).
+  std::vector<std::vector<int>> vertex_faces;
 };
 
 class Roberts {

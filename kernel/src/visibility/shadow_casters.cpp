@@ -28,8 +28,29 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vect
                          const Viewpoint& view, double scale)
     : pieces_(pieces), volumes_(volumes), view_(view), margin_(1e-9 * scale) {
   if (!view.at_infinity) {
-    for (size_t p = 0; p < pieces.size(); ++p)
-      if (volumes[p].clipper) active_.push_back(static_cast<int>(p));
+    // The angular grid (shadows_internal.h): about one cell per piece, φ twice as fine as θ.
+    size_t active = 0;
+    for (size_t p = 0; p < pieces.size(); ++p) active += volumes[p].clipper ? 1 : 0;
+    n_theta_ = std::clamp(static_cast<int>(std::ceil(std::sqrt(0.5 * static_cast<double>(active)))), 1, 1024);
+    n_phi_ = 2 * n_theta_;
+    const size_t cells = static_cast<size_t>(n_theta_) * static_cast<size_t>(n_phi_);
+    std::vector<std::pair<int, size_t>> listed;  // (piece, cell)
+    for (size_t p = 0; p < pieces.size(); ++p) {
+      if (!volumes[p].clipper) continue;
+      const Vec3 c = pieces[p].centre - view.point;
+      const double d = c.norm(), r = pieces[p].radius + margin_;
+      if (!(d > r)) {
+        always_.push_back(static_cast<int>(p));
+        continue;
+      }
+      for_cone(c, d, r, [&](size_t cell) { listed.emplace_back(static_cast<int>(p), cell); });
+    }
+    cells_.assign(cells + 1, 0);
+    for (const auto& [p, c] : listed) ++cells_[c + 1];
+    for (size_t c = 1; c < cells_.size(); ++c) cells_[c] += cells_[c - 1];
+    items_.resize(listed.size());
+    std::vector<int> fill(cells_.begin(), cells_.end() - 1);
+    for (const auto& [p, c] : listed) items_[static_cast<size_t>(fill[c]++)] = p;
     return;
   }
   dir_ = view.direction.normalized();

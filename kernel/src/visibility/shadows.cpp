@@ -41,7 +41,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
   thread_local Ring2 ring;
   index.candidates(corners, fd.centre, fd.radius, [&](int p) {
     // A convex body never hides its own faces; pieces of a non-convex one may.
-    if (pieces[static_cast<size_t>(p)].body == b && bd.skips(f, p)) return;
+    if (pieces[static_cast<size_t>(p)].body == b && bd.skips(f, p, pieces[static_cast<size_t>(p)])) return;
     const ConvexClipper& clipper = *volumes[static_cast<size_t>(p)].clipper;
     fd.for_parts([&](const Polygon3& part) {
       if (clip_convex_polygon_open(part, clipper, clipped, scratch) &&
@@ -56,7 +56,7 @@ bool ShadowScene::Impl::point_hidden(int b, int f, const Vec3& p, const CasterIn
   const ShadowBody& bd = bodies[static_cast<size_t>(b)];
   bool hidden = false;
   index.candidates({p}, p, 0, [&](int q) {
-    if (hidden || (pieces[static_cast<size_t>(q)].body == b && bd.skips(f, q))) return;
+    if (hidden || (pieces[static_cast<size_t>(q)].body == b && bd.skips(f, q, pieces[static_cast<size_t>(q)]))) return;
     hidden = hides(volumes[static_cast<size_t>(q)], p);
   });
   return hidden;
@@ -69,13 +69,16 @@ std::vector<OcclusionVolume> ShadowScene::Impl::volumes(const Viewpoint& view,
     const ShadowPiece& piece = pieces[p];
     std::vector<Facing> turned(piece.planes.size());
     for (size_t f = 0; f < piece.planes.size(); ++f) turned[f] = facing(piece.planes[f], view);
+    // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
+    if (piece.face >= 0 && turned[0] != Facing::Front) return;
     v[p] = occlusion_volume(piece.shape, turned, view, piece.planes);
   });
   return v;
 }
 
-ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
+ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
+  m.occluders = occluders;
   m.camera = scene.camera;
   const Eigen::AlignedBox3d box = scene.bbox();
   m.scale = box.isEmpty() ? 1
@@ -98,6 +101,7 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
   std::vector<std::vector<Body>> pieces(m.bodies.size());
   std::vector<std::vector<std::vector<ExactPlane>>> piece_planes(m.bodies.size());
   std::vector<std::vector<std::vector<std::pair<int, int>>>> exact_planes(m.bodies.size());
+  std::vector<std::vector<int>> piece_faces(m.bodies.size());
   parallel_for(m.bodies.size(), 0, [&](size_t b) {
     ShadowBody& bd = m.bodies[b];
     bd.faces.reserve(static_cast<size_t>(bd.body.face_count()));
@@ -109,6 +113,19 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
     if (bd.convex) {
       pieces[b].push_back(bd.body);
       piece_planes[b].push_back(std::move(planes));
+    } else if (occludes_by_faces(bd.body, m.occluders)) {
+      // Closed: the faces turned to a viewpoint hide everything the body hides from it
+      // (hedra/visibility/occlusion.h, Occluders::Faces).
+      bd.faceted = true;
+      std::vector<int> all(bd.faces.size());
+      for (size_t f = 0; f < all.size(); ++f) all[f] = static_cast<int>(f);
+      for (FaceTriangle& t : face_triangles_of(bd.body, all)) {
+        std::vector<ExactPlane> pp;
+        for (int g = 0; g < t.triangle.face_count(); ++g) pp.push_back(exact_face_plane(t.triangle, g));
+        piece_planes[b].push_back(std::move(pp));
+        piece_faces[b].push_back(t.face);
+        pieces[b].push_back(std::move(t.triangle));
+      }
     } else {
       try {
         Decomposition d = decompose(bd.body);
@@ -133,6 +150,7 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
       ShadowPiece pd(std::move(pieces[b][k]));
       pd.planes = std::move(piece_planes[b][k]);
       if (k < exact_planes[b].size()) pd.exact_planes = std::move(exact_planes[b][k]);
+      if (k < piece_faces[b].size()) pd.face = piece_faces[b][k];
       pd.body = static_cast<int>(b);
       pd.box = pd.shape.bbox();
       pd.centre = pd.box.center();
@@ -141,7 +159,7 @@ ShadowScene::ShadowScene(const Scene& scene) : impl_(std::make_unique<Impl>()) {
       m.pieces.push_back(std::move(pd));
     }
     ShadowBody& bd = m.bodies[b];
-    if (!bd.convex) {
+    if (!bd.convex && !bd.faceted) {
       bd.own_adjacent.resize(bd.faces.size());
       const double scale = bd.body.scale();
       const InputPlanes& model = bd.input_planes;
@@ -327,7 +345,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
 }
 
 ShadowResult compute_shadows(const Scene& scene, const ShadowOptions& options) {
-  return ShadowScene(scene).compute(scene.lights, options);
+  return ShadowScene(scene, options.occluders).compute(scene.lights, options);
 }
 
 bool in_shadow(const Scene& scene, const Light& light, int body, int face, const Vec3& p) {

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <span>
@@ -108,6 +109,9 @@ struct ShadowPiece {
   Eigen::AlignedBox3d box;
   Vec3 centre = Vec3::Zero();
   double radius = 0;
+  // A triangle of a face of a body occluding by its faces (Occluders::Faces): that face. It
+  // occludes only from viewpoints its face 0 (the body face's orientation) turns to.
+  int face = -1;
 };
 
 struct ShadowBody {
@@ -124,8 +128,12 @@ struct ShadowBody {
   /// a few ulps off, which must not turn the face into "shadow".
   std::vector<std::vector<int>> own_adjacent;
   InputPlanes input_planes;  // non-convex body: its decomposition's exact planes
-  bool skips(int face, int piece) const {
+  // Non-convex, occluding by its faces: its pieces are its faces' triangles (ShadowPiece::face).
+  bool faceted = false;
+  bool skips(int face, int piece, const ShadowPiece& pd) const {
     if (convex) return true;  // a convex body hides nothing of its own faces
+    // A triangle of the face itself lies on it (a face planar within rounding: an ulp off).
+    if (faceted) return pd.face == face;
     const auto& v = own_adjacent[static_cast<size_t>(face)];
     return std::find(v.begin(), v.end(), piece) != v.end();
   }
@@ -154,11 +162,32 @@ class CasterIndex {
     if (!view_.at_infinity) {
       const Vec3 fc = centre - view_.point;
       const double fd = fc.norm();
-      for (int p : active_) {
+      const double fr = radius + margin_;
+      // The pieces whose cones of directions may meet the region's, from the angular grid,
+      // in ascending order (the order of a plain scan: results do not depend on the index).
+      thread_local std::vector<int> found;
+      thread_local std::vector<unsigned> seen;
+      thread_local unsigned visit = 0;
+      found.assign(always_.begin(), always_.end());
+      if (seen.size() < pieces_.size()) seen.assign(pieces_.size(), 0);
+      if (++visit == 0) {
+        std::fill(seen.begin(), seen.end(), 0);
+        visit = 1;
+      }
+      for_cone(fc, fd, fr, [&](size_t c) {
+        for (int q = cells_[c]; q < cells_[c + 1]; ++q) {
+          const int p = items_[static_cast<size_t>(q)];
+          if (seen[static_cast<size_t>(p)] == visit) continue;
+          seen[static_cast<size_t>(p)] = visit;
+          found.push_back(p);
+        }
+      });
+      std::sort(found.begin(), found.end());
+      for (int p : found) {
         const ShadowPiece& piece = pieces_[static_cast<size_t>(p)];
         const Vec3 pc = piece.centre - view_.point;
         const double pd = pc.norm();
-        const double pr = piece.radius + margin_, fr = radius + margin_;
+        const double pr = piece.radius + margin_;
         // Depth: the face's farthest point must lie beyond the piece's nearest.
         if (fd + fr < pd - pr) continue;
         if (pd > pr && fd > fr) {
@@ -214,11 +243,54 @@ class CasterIndex {
       for (size_t x = x0; x <= x1; ++x) f(y * static_cast<size_t>(n_) + x);
   }
 
+  // Finite viewpoint: a grid over the directions from it, (colatitude θ from +z, longitude φ),
+  // n_theta_ × n_phi_ cells; a piece is listed in every cell its cone of directions (its
+  // bounding sphere seen from the viewpoint, widened by a margin) may meet, or in always_ when
+  // the viewpoint lies in its sphere. Calls f(cell) for the cells of the cone around direction
+  // c (length d) of half-width asin(r / d) (every cell when d ≤ r).
+  template <class F>
+  void for_cone(const Vec3& c, double d, double r, F&& f) const {
+    if (n_phi_ == 0) return;
+    const double pi = std::numbers::pi;
+    double t0 = 0, t1 = pi, p0 = -pi, p1 = pi;
+    bool all_phi = true;
+    if (d > r && d > 0) {
+      const double a = std::asin(std::min(1.0, r / d)) + 1e-9;
+      const double tc = std::acos(std::clamp(c.z() / d, -1.0, 1.0));
+      t0 = tc - a;
+      t1 = tc + a;
+      if (t0 > 0 && t1 < pi) {
+        const double s = std::sin(a) / std::min(std::sin(t0), std::sin(t1));
+        if (s < 1) {
+          const double pc = std::atan2(c.y(), c.x()), w = std::asin(s) + 1e-9;
+          p0 = pc - w;
+          p1 = pc + w;
+          all_phi = false;
+        }
+      }
+    }
+    const auto ti = [&](double t) {
+      return static_cast<int>(std::clamp(std::floor(t / pi * n_theta_), 0.0, n_theta_ - 1.0));
+    };
+    const int y0 = ti(t0), y1 = ti(t1);
+    int x0 = 0, x1 = n_phi_ - 1;
+    if (!all_phi) {
+      x0 = static_cast<int>(std::floor((p0 + pi) / (2 * pi) * n_phi_));
+      x1 = static_cast<int>(std::floor((p1 + pi) / (2 * pi) * n_phi_));
+      if (x1 - x0 + 1 >= n_phi_) x0 = 0, x1 = n_phi_ - 1;
+    }
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        f(static_cast<size_t>(y) * static_cast<size_t>(n_phi_) +
+          static_cast<size_t>(((x % n_phi_) + n_phi_) % n_phi_));
+  }
+  int n_theta_ = 0, n_phi_ = 0;
+  std::vector<int> always_;
+
   const std::vector<ShadowPiece>& pieces_;
   const std::vector<OcclusionVolume>& volumes_;
   Viewpoint view_;
   double margin_;
-  std::vector<int> active_;  // finite viewpoint
   Vec3 dir_ = Vec3::UnitZ(), e1_ = Vec3::UnitX(), e2_ = Vec3::UnitY();
   std::vector<Bounds> boxes_;
   std::vector<int> ids_;
@@ -253,6 +325,7 @@ struct ShadowScene::Impl {
                     const std::vector<OcclusionVolume>& volumes) const;
   // The occlusion volumes of every piece from a viewpoint (cached face planes and facings).
   std::vector<OcclusionVolume> volumes(const Viewpoint& view, int threads) const;
+  Occluders occluders = Occluders::Auto;
 };
 
 }  // namespace hedra

@@ -77,6 +77,39 @@ OcclusionVolume occlusion_volume(const Body& convex_body, std::span<const Facing
                                  const Viewpoint& view,
                                  std::span<const ExactPlane> face_planes = {});
 
+/// How a closed, non-convex body occludes in hidden lines and shadows.
+///  - Pieces: its exact convex decomposition (hedra/decompose/decompose.h), each piece's
+///    occlusion volume. Cost of the decomposition grows with the reflex edges (a 4000-point
+///    star prism: about a second; a float32 mesh whose every edge is reflex by an ulp: far more).
+///  - Faces: its faces cut into triangles, each an exactly planar two-sided occluder; only the
+///    faces turned to the viewpoint occlude (a closed surface seen from outside: a ray that
+///    reaches a point behind a face turned away entered the body through one turned to it).
+///    Cost O(F) to build, and per segment the triangles whose picture box it meets. The same
+///    answer as the pieces (both exact, for the same polyhedron), except that a segment lying
+///    exactly in the plane through the viewpoint and an edge between two faces turned to it,
+///    behind that edge, lies on the boundary of both triangles' open volumes and counts as
+///    visible (the pieces' internal facets catch that case; docs/stability.md).
+///  - Auto: Faces for a body of more than kFaceOccluderFaces faces, Pieces otherwise.
+enum class Occluders { Auto, Pieces, Faces };
+inline constexpr int kFaceOccluderFaces = 4096;
+
+/// Whether a non-convex closed body occludes by its faces under `choice` (see Occluders).
+inline bool occludes_by_faces(const Body& body, Occluders choice) {
+  return choice == Occluders::Faces ||
+         (choice == Occluders::Auto && body.face_count() > kFaceOccluderFaces);
+}
+
+/// The triangles of a body's faces (Occluders::Faces): for each face in `faces`, its outer
+/// loop itself when it is a triangle, else triangulate_polygon() of its loops; each triangle as
+/// a two-sided polygon (Body::two_sided_polygon) with the face it came from. Input vertices
+/// only, so every triangle is exactly planar. Cost O(F) for triangles, O(k log k) for a face of
+/// k vertices otherwise.
+struct FaceTriangle {
+  int face = -1;
+  Body triangle;
+};
+std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<int>& faces);
+
 /// Exact: p lies strictly inside the occlusion volume (hidden). Cost O(planes).
 bool hides(const OcclusionVolume& volume, const Vec3& p);
 

@@ -99,6 +99,10 @@ struct HlrOptions {
   double crease_angle = 30;
   /// Also draw the visible parts of smooth edges (LineKind::Smooth).
   bool smooth = false;
+  /// How closed non-convex bodies occlude (hedra/visibility/occlusion.h): their exact convex
+  /// pieces, or their faces (Auto: faces above kFaceOccluderFaces faces). BruteForce always
+  /// uses the pieces.
+  Occluders occluders = Occluders::Auto;
   /// Progress and cancellation (hedra/core/progress.h): the fraction done, on the calling
   /// thread; returning false stops the work with hedra::Cancelled and no result.
   ProgressCallback progress;

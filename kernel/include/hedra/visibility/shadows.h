@@ -120,6 +120,9 @@ struct ShadowOptions {
   bool counts = true;
   /// Worker threads (0: TBB's default). Results do not depend on it.
   int threads = 0;
+  /// How closed non-convex bodies occlude (hedra/visibility/occlusion.h): their exact convex
+  /// pieces, or their faces' triangles (Auto: above kFaceOccluderFaces faces).
+  Occluders occluders = Occluders::Auto;
   /// Progress and cancellation of the shadow passes (hedra/core/progress.h): the fraction
   /// done, on the calling thread; returning false stops with hedra::Cancelled and no result.
   /// The preparation (decomposing non-convex bodies) is not covered.
@@ -159,7 +162,7 @@ struct ShadowSceneAccess;
 class ShadowScene {
  public:
   /// \throw InvalidInput when a non-convex body cannot be decomposed.
-  explicit ShadowScene(const Scene& scene);
+  explicit ShadowScene(const Scene& scene, Occluders occluders = Occluders::Auto);
   ~ShadowScene();
   ShadowScene(ShadowScene&&) noexcept;
   ShadowScene& operator=(ShadowScene&&) noexcept;
