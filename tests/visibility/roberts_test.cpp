@@ -605,3 +605,36 @@ TEST(RobertsImageSpace, ZBufferErrsAtTransitionsAndShrinksWithThePixel) {
 
 }  // namespace
 }  // namespace hedra
+
+namespace hedra {
+namespace {
+
+// The triangulated sphere of Shadows.TriangulatedSphereCastsTheShadowOfItsConvexTwin (exactly
+// non-convex by ulps, above kFaceOccluderFaces faces: it occludes by its faces) is drawn as its
+// convex twin: the same visible edges and outline, in parallel and perspective views.
+TEST(Roberts, TriangulatedSphereIsDrawnAsItsConvexTwin) {
+  const Body ball = sphere({0, 0, 2}, 1.5, 1e-3);
+  std::vector<Face> faces;
+  for (const Triangle& t : ball.triangles()) faces.emplace_back(std::vector<int>{t.v[0], t.v[1], t.v[2]});
+  const Body mesh(ball.vertices(), std::move(faces));
+  ASSERT_GT(mesh.face_count(), kFaceOccluderFaces);
+  const Body slab = box({-4, -4, -1}, {4, 4, 0});
+  for (const Camera& camera : {Camera::parallel({-1, -1, -1}, {0, 0, 1}),
+                               Camera::perspective({8, -6, 5}, {0, 0, 1}, 40)}) {
+    const HlrResult a = hidden_lines(std::vector<Body>{slab, ball}, camera);
+    const HlrResult b = hidden_lines(std::vector<Body>{slab, mesh}, camera);
+    EXPECT_GT(b.stats.pieces, 1000);  // the triangles turned to the eye
+    EXPECT_NEAR(b.length(LineKind::Edge), a.length(LineKind::Edge), 1e-9 * a.length(LineKind::Edge));
+    EXPECT_GT(a.length(LineKind::Outline), 5);
+    EXPECT_NEAR(b.length(LineKind::Outline), a.length(LineKind::Outline), 1e-3 * a.length(LineKind::Outline));
+    // Forced to its exact pieces instead would decompose thousands of ulp-reflex edges; forced
+    // to faces, a convex body is unchanged (it is its own piece).
+    HlrOptions faces_option;
+    faces_option.occluders = Occluders::Faces;
+    const HlrResult c = hidden_lines(std::vector<Body>{slab, ball}, camera, faces_option);
+    EXPECT_EQ(c.visible.size(), a.visible.size());
+  }
+}
+
+}  // namespace
+}  // namespace hedra

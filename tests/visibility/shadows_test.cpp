@@ -12,6 +12,7 @@
 #include "hedra/core/error.h"
 #include "hedra/visibility/polygon_union.h"
 #include "hedra/core/primitives.h"
+#include "hedra/mesh/convexity.h"
 
 namespace hedra {
 namespace {
@@ -779,6 +780,49 @@ TEST(PolygonUnion, RandomConvexPolygonsAgreeWithCgal) {
     chained += mine.chained;
   }
   EXPECT_EQ(chained, 40);
+}
+
+}  // namespace
+}  // namespace hedra
+
+namespace hedra {
+namespace {
+
+// A sphere whose quads are split into triangles along a diagonal: quads planar only within
+// rounding make some diagonals reflex by an ulp, so the mesh is exactly non-convex (as every
+// float export of a sphere), and with more than kFaceOccluderFaces faces it occludes by its
+// faces (Occluders::Auto), with no decomposition.
+Body triangulated(const Body& body) {
+  std::vector<Face> faces;
+  for (const Triangle& t : body.triangles()) faces.emplace_back(std::vector<int>{t.v[0], t.v[1], t.v[2]});
+  return Body(body.vertices(), std::move(faces));
+}
+
+TEST(Shadows, TriangulatedSphereCastsTheShadowOfItsConvexTwin) {
+  const Body ball = sphere({0, 0, 2}, 1.5, 1e-3);
+  const Body mesh = triangulated(ball);
+  ASSERT_GT(mesh.face_count(), kFaceOccluderFaces);
+  ASSERT_FALSE(is_convex(mesh));
+  for (const Light& light : {Light::point({6, 4, 10}), Light::directional({-1, -0.5, -2})}) {
+    double area[2];
+    int k = 0;
+    for (const Body& b : {ball, mesh}) {
+      Scene scene;
+      scene.add("ground", box({-10, -10, -1}, {10, 10, 0}));
+      scene.add("ball", b);
+      scene.lights.push_back(light);
+      const ShadowResult r = compute_shadows(scene);
+      const FaceShadow& top = r.face(0, 0, 5);  // z = 0
+      EXPECT_GT(top.shadow_area, 1);
+      ASSERT_FALSE(top.polygons.empty());
+      double polygons = 0;
+      for (const ShadowPolygon& p : top.polygons) polygons += p.area;
+      EXPECT_NEAR(polygons, top.shadow_area, 1e-9 * top.shadow_area);
+      area[k++] = top.shadow_area;
+    }
+    // The same surface up to the rounding of its vertices.
+    EXPECT_NEAR(area[1], area[0], 1e-9 * area[0]);
+  }
 }
 
 }  // namespace

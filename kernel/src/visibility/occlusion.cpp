@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "hedra/core/error.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/predicates.h"
 
 namespace hedra {
@@ -177,18 +178,28 @@ namespace hedra {
 std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<int>& faces) {
   std::vector<char> wanted(static_cast<size_t>(body.face_count()), 0);
   for (int f : faces) wanted[static_cast<size_t>(f)] = 1;
-  std::vector<FaceTriangle> out;
-  out.reserve(faces.size());
+  const auto& triangles = body.triangles();
+  std::vector<const Triangle*> chosen;
+  chosen.reserve(faces.size());
+  for (const Triangle& t : triangles)
+    if (wanted[static_cast<size_t>(t.face)]) chosen.push_back(&t);
   const auto& v = body.vertices();
-  for (const Triangle& t : body.triangles()) {
-    if (!wanted[static_cast<size_t>(t.face)]) continue;
-    std::vector<Vec3> corners{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
-                              v[static_cast<size_t>(t.v[2])]};
-    // Input points: exactly planar. A triangle the face's triangulation made with exactly
-    // collinear corners (it has none by contract) would hide nothing: skipped.
-    if (collinear(corners[0], corners[1], corners[2])) continue;
-    out.push_back({t.face, Body::two_sided_polygon(std::move(corners))});
-  }
+  // In parallel, in triangle order (a triangle the face's triangulation made with exactly
+  // collinear corners, which it has none of by contract, would hide nothing: dropped).
+  std::vector<std::optional<FaceTriangle>> built(chosen.size());
+  parallel_blocks(chosen.size(), 0, 1024, [&](size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) {
+      const Triangle& t = *chosen[i];
+      std::vector<Vec3> corners{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
+                                v[static_cast<size_t>(t.v[2])]};
+      if (collinear(corners[0], corners[1], corners[2])) continue;
+      built[i] = FaceTriangle{t.face, Body::two_sided_polygon(std::move(corners))};
+    }
+  });
+  std::vector<FaceTriangle> out;
+  out.reserve(built.size());
+  for (auto& t : built)
+    if (t) out.push_back(std::move(*t));
   return out;
 }
 

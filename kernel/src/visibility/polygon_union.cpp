@@ -428,7 +428,9 @@ bool chain(std::vector<Portion> portions, std::vector<PolygonWithHoles2>& result
       if (used[static_cast<size_t>(next)]) return false;
       cur = next;
     }
-    if (ring.size() < 3) return false;
+    // Two portions there and back (a sliver of zero width between pieces that meet along it,
+    // their edges an ulp apart): a ring of no area, which carries nothing.
+    if (ring.size() < 3) continue;
     ring = drop_straight(ring);
     const double a = ring_area(ring);
     if (a > 0)

@@ -28,29 +28,51 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vect
                          const Viewpoint& view, double scale)
     : pieces_(pieces), volumes_(volumes), view_(view), margin_(1e-9 * scale) {
   if (!view.at_infinity) {
-    // The angular grid (shadows_internal.h): about one cell per piece, φ twice as fine as θ.
-    size_t active = 0;
-    for (size_t p = 0; p < pieces.size(); ++p) active += volumes[p].clipper ? 1 : 0;
-    n_theta_ = std::clamp(static_cast<int>(std::ceil(std::sqrt(0.5 * static_cast<double>(active)))), 1, 1024);
-    n_phi_ = 2 * n_theta_;
-    const size_t cells = static_cast<size_t>(n_theta_) * static_cast<size_t>(n_phi_);
-    std::vector<std::pair<int, size_t>> listed;  // (piece, cell)
+    // The angular grid (shadows_internal.h): the frame from the pieces' mean direction, then
+    // about four cells per small piece over the range of their cones.
+    std::vector<int> active;
+    Vec3 mean = Vec3::Zero();
     for (size_t p = 0; p < pieces.size(); ++p) {
       if (!volumes[p].clipper) continue;
+      active.push_back(static_cast<int>(p));
       const Vec3 c = pieces[p].centre - view.point;
-      const double d = c.norm(), r = pieces[p].radius + margin_;
-      if (!(d > r)) {
-        always_.push_back(static_cast<int>(p));
+      if (c.norm() > 0) mean += c.normalized();
+    }
+    if (mean.norm() > 0) {
+      ax_ = mean.normalized();
+      az_ = ax_.unitOrthogonal();
+      ay_ = az_.cross(ax_);
+    }
+    std::vector<Cone> cones(pieces.size());
+    std::vector<int> small;
+    const double pi = std::numbers::pi;
+    double t_lo = pi, t_hi = 0, p_lo = pi, p_hi = -pi;
+    for (int p : active) {
+      const Vec3 c = pieces[static_cast<size_t>(p)].centre - view.point;
+      const Cone k = cone_of(c, c.norm(), pieces[static_cast<size_t>(p)].radius + margin_);
+      cones[static_cast<size_t>(p)] = k;
+      if (k.all_phi || k.t1 - k.t0 > 2 * kWideCone || k.p1 - k.p0 > 2 * kWideCone || k.p0 < -pi || k.p1 > pi) {
+        always_.push_back(p);
         continue;
       }
-      for_cone(c, d, r, [&](size_t cell) { listed.emplace_back(static_cast<int>(p), cell); });
+      small.push_back(p);
+      t_lo = std::min(t_lo, k.t0), t_hi = std::max(t_hi, k.t1);
+      p_lo = std::min(p_lo, k.p0), p_hi = std::max(p_hi, k.p1);
     }
+    if (small.empty()) return;
+    const double tr = std::max(t_hi - t_lo, 1e-12), pr = std::max(p_hi - p_lo, 1e-12);
+    const double cells_wanted = std::min(4.0 * static_cast<double>(small.size()), 4.0e6);
+    n_theta_ = std::clamp(static_cast<int>(std::ceil(std::sqrt(cells_wanted * tr / pr))), 1, 4096);
+    n_phi_ = std::clamp(static_cast<int>(std::ceil(cells_wanted / n_theta_)), 1, 4096);
+    t_lo_ = t_lo, t_scale_ = n_theta_ / tr, p_lo_ = p_lo, p_scale_ = n_phi_ / pr;
+    const size_t cells = static_cast<size_t>(n_theta_) * static_cast<size_t>(n_phi_);
     cells_.assign(cells + 1, 0);
-    for (const auto& [p, c] : listed) ++cells_[c + 1];
+    for (int p : small) for_cone(cones[static_cast<size_t>(p)], [&](size_t c) { ++cells_[c + 1]; });
     for (size_t c = 1; c < cells_.size(); ++c) cells_[c] += cells_[c - 1];
-    items_.resize(listed.size());
+    items_.resize(static_cast<size_t>(cells_.back()));
     std::vector<int> fill(cells_.begin(), cells_.end() - 1);
-    for (const auto& [p, c] : listed) items_[static_cast<size_t>(fill[c]++)] = p;
+    for (int p : small)
+      for_cone(cones[static_cast<size_t>(p)], [&](size_t c) { items_[static_cast<size_t>(fill[c]++)] = p; });
     return;
   }
   dir_ = view.direction.normalized();

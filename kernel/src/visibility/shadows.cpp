@@ -39,9 +39,58 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
   thread_local Polygon3 clipped;
   thread_local PolygonClipScratch scratch;
   thread_local Ring2 ring;
+  thread_local std::vector<Ring2> part_rings;
+  const Viewpoint& view = index.view();
+  part_rings.clear();
+  bool parts_known = false;
+  // A triangle of a faceted body wholly between the viewpoint and the face's plane, whose
+  // projection onto that plane lies strictly inside one convex part of the face: the part of
+  // the face it hides is that projection. Its corners are projected one by one, so the
+  // triangles around a vertex share its projected point exactly and their shadows meet along
+  // common edges (a clipped corner is rounded from the clipping chain of each triangle, and
+  // thousands of nearly coincident corners sent the union to its exact fallback). The
+  // decisions (sides of the plane, inside the part) are exact on the rounded projections.
+  const auto project_triangle = [&](const ShadowPiece& piece) {
+    const auto& tv = piece.shape.vertices();
+    if (tv.size() != 3) return false;
+    const Vec3& n = fd.normal;
+    const double lit = view.at_infinity ? n.dot(view.direction) : n.dot(fd.anchor - view.point);
+    ring.resize(3);
+    for (size_t k = 0; k < 3; ++k) {
+      // Strictly on the viewpoint's side of the face's plane (its outer side).
+      if (side_of_plane(fd.plane, tv[k]) != Sign::Negative) return false;
+      Vec3 x;
+      if (view.at_infinity) {
+        x = tv[k] + (n.dot(fd.anchor - tv[k]) / lit) * view.direction;
+      } else {
+        const double t = lit / n.dot(tv[k] - view.point);
+        if (!(t > 1 + 1e-9) || !std::isfinite(t)) return false;  // not between: clip instead
+        x = view.point + t * (tv[k] - view.point);
+      }
+      ring[k] = drop(x, fd.axis);
+    }
+    Sign turn = orient2d(ring[0], ring[1], ring[2]);
+    if (turn == Sign::Zero) return false;
+    if (turn == Sign::Negative) std::swap(ring[1], ring[2]);
+    if (!parts_known) {
+      fd.for_parts([&](const Polygon3& part) { part_rings.push_back(fd.project(part)); });
+      parts_known = true;
+    }
+    for (const Ring2& part : part_rings) {
+      bool inside = true;
+      for (size_t i = 0, m = part.size(); i < m && inside; ++i)
+        for (const Vec2& q : ring) inside = inside && orient2d(part[i], part[(i + 1) % m], q) == Sign::Positive;
+      if (inside) return true;
+    }
+    return false;
+  };
   index.candidates(corners, fd.centre, fd.radius, [&](int p) {
     // A convex body never hides its own faces; pieces of a non-convex one may.
     if (pieces[static_cast<size_t>(p)].body == b && bd.skips(f, p, pieces[static_cast<size_t>(p)])) return;
+    if (pieces[static_cast<size_t>(p)].face >= 0 && project_triangle(pieces[static_cast<size_t>(p)])) {
+      out.push_back(ring);
+      return;
+    }
     const ConvexClipper& clipper = *volumes[static_cast<size_t>(p)].clipper;
     fd.for_parts([&](const Polygon3& part) {
       if (clip_convex_polygon_open(part, clipper, clipped, scratch) &&
@@ -104,8 +153,11 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
   std::vector<std::vector<int>> piece_faces(m.bodies.size());
   parallel_for(m.bodies.size(), 0, [&](size_t b) {
     ShadowBody& bd = m.bodies[b];
-    bd.faces.reserve(static_cast<size_t>(bd.body.face_count()));
-    for (int f = 0; f < bd.body.face_count(); ++f) bd.faces.push_back(make_face(bd.body, f));
+    bd.faces.resize(static_cast<size_t>(bd.body.face_count()));
+    bd.body.triangles();  // built once, before the faces read it in parallel
+    parallel_blocks(bd.faces.size(), 0, 256, [&](size_t begin, size_t end) {
+      for (size_t f = begin; f != end; ++f) bd.faces[f] = make_face(bd.body, static_cast<int>(f));
+    });
     std::vector<ExactPlane> planes;
     planes.reserve(bd.faces.size());
     for (const ShadowFace& fd : bd.faces) planes.push_back(fd.plane);
@@ -119,10 +171,14 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       bd.faceted = true;
       std::vector<int> all(bd.faces.size());
       for (size_t f = 0; f < all.size(); ++f) all[f] = static_cast<int>(f);
-      for (FaceTriangle& t : face_triangles_of(bd.body, all)) {
-        std::vector<ExactPlane> pp;
-        for (int g = 0; g < t.triangle.face_count(); ++g) pp.push_back(exact_face_plane(t.triangle, g));
-        piece_planes[b].push_back(std::move(pp));
+      std::vector<FaceTriangle> triangles = face_triangles_of(bd.body, all);
+      piece_planes[b].resize(triangles.size());
+      parallel_blocks(triangles.size(), 0, 1024, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k != end; ++k)
+          for (int g = 0; g < triangles[k].triangle.face_count(); ++g)
+            piece_planes[b][k].push_back(exact_face_plane(triangles[k].triangle, g));
+      });
+      for (FaceTriangle& t : triangles) {
         piece_faces[b].push_back(t.face);
         pieces[b].push_back(std::move(t.triangle));
       }

@@ -154,6 +154,8 @@ class CasterIndex {
   CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vector<OcclusionVolume>& volumes,
               const Viewpoint& view, double scale);
 
+  const Viewpoint& view() const { return view_; }
+
   // Calls f(piece) for each piece that may hide part of a region (a face, or a point): its
   // corners, and a bounding sphere (each piece once, in a deterministic order).
   template <class F>
@@ -174,7 +176,7 @@ class CasterIndex {
         std::fill(seen.begin(), seen.end(), 0);
         visit = 1;
       }
-      for_cone(fc, fd, fr, [&](size_t c) {
+      for_cone(cone_of(fc, fd, fr), [&](size_t c) {
         for (int q = cells_[c]; q < cells_[c + 1]; ++q) {
           const int p = items_[static_cast<size_t>(q)];
           if (seen[static_cast<size_t>(p)] == visit) continue;
@@ -243,47 +245,60 @@ class CasterIndex {
       for (size_t x = x0; x <= x1; ++x) f(y * static_cast<size_t>(n_) + x);
   }
 
-  // Finite viewpoint: a grid over the directions from it, (colatitude θ from +z, longitude φ),
-  // n_theta_ × n_phi_ cells; a piece is listed in every cell its cone of directions (its
-  // bounding sphere seen from the viewpoint, widened by a margin) may meet, or in always_ when
-  // the viewpoint lies in its sphere. Calls f(cell) for the cells of the cone around direction
-  // c (length d) of half-width asin(r / d) (every cell when d ≤ r).
-  template <class F>
-  void for_cone(const Vec3& c, double d, double r, F&& f) const {
-    if (n_phi_ == 0) return;
+  // Finite viewpoint: a grid over the directions from it, in a frame whose equator passes
+  // through the mean direction of the pieces (φ = 0 there: the poles and the seam at φ = ±π
+  // lie away from them): colatitude θ from axis az_, longitude φ from ax_ towards ay_. The grid
+  // spans the θ and φ ranges of the small pieces' cones, n_theta_ × n_phi_ cells; a piece is
+  // listed in every cell its cone of directions (its bounding sphere seen from the viewpoint,
+  // widened by a margin) may meet; pieces with a wide cone (containing the viewpoint, near a
+  // pole, or wider than kWideCone) are in always_. Coordinates outside the ranges clamp to the
+  // border cells, for pieces and queries alike, so a shared direction stays a shared cell.
+  struct Cone {
+    double t0, t1, p0, p1;
+    bool all_phi;
+  };
+  static constexpr double kWideCone = 0.25;  // radians
+  Cone cone_of(const Vec3& c, double d, double r) const {
     const double pi = std::numbers::pi;
-    double t0 = 0, t1 = pi, p0 = -pi, p1 = pi;
-    bool all_phi = true;
-    if (d > r && d > 0) {
-      const double a = std::asin(std::min(1.0, r / d)) + 1e-9;
-      const double tc = std::acos(std::clamp(c.z() / d, -1.0, 1.0));
-      t0 = tc - a;
-      t1 = tc + a;
-      if (t0 > 0 && t1 < pi) {
-        const double s = std::sin(a) / std::min(std::sin(t0), std::sin(t1));
-        if (s < 1) {
-          const double pc = std::atan2(c.y(), c.x()), w = std::asin(s) + 1e-9;
-          p0 = pc - w;
-          p1 = pc + w;
-          all_phi = false;
-        }
+    Cone k{0, pi, -pi, pi, true};
+    if (!(d > r) || !(d > 0)) return k;
+    const double a = std::asin(std::min(1.0, r / d)) + 1e-9;
+    const double tc = std::acos(std::clamp(c.dot(az_) / d, -1.0, 1.0));
+    k.t0 = tc - a;
+    k.t1 = tc + a;
+    if (k.t0 > 0 && k.t1 < pi) {
+      const double s = std::sin(a) / std::min(std::sin(k.t0), std::sin(k.t1));
+      if (s < 1) {
+        const double pc = std::atan2(c.dot(ay_), c.dot(ax_)), w = std::asin(s) + 1e-9;
+        k.p0 = pc - w;
+        k.p1 = pc + w;
+        k.all_phi = false;
       }
     }
-    const auto ti = [&](double t) {
-      return static_cast<int>(std::clamp(std::floor(t / pi * n_theta_), 0.0, n_theta_ - 1.0));
+    return k;
+  }
+  // Calls f(cell) for the cells of a cone.
+  template <class F>
+  void for_cone(const Cone& k, F&& f) const {
+    if (n_phi_ == 0) return;
+    const auto index = [](double v, double lo, double scale, int n) {
+      return static_cast<int>(std::clamp(std::floor((v - lo) * scale), 0.0, n - 1.0));
     };
-    const int y0 = ti(t0), y1 = ti(t1);
+    const int y0 = index(k.t0, t_lo_, t_scale_, n_theta_), y1 = index(k.t1, t_lo_, t_scale_, n_theta_);
     int x0 = 0, x1 = n_phi_ - 1;
-    if (!all_phi) {
-      x0 = static_cast<int>(std::floor((p0 + pi) / (2 * pi) * n_phi_));
-      x1 = static_cast<int>(std::floor((p1 + pi) / (2 * pi) * n_phi_));
-      if (x1 - x0 + 1 >= n_phi_) x0 = 0, x1 = n_phi_ - 1;
+    if (!k.all_phi) {
+      // A cone across the seam φ = ±π: its φ interval taken whole (the grid does not wrap).
+      const double pi = std::numbers::pi;
+      if (k.p0 >= -pi && k.p1 <= pi) {
+        x0 = index(k.p0, p_lo_, p_scale_, n_phi_);
+        x1 = index(k.p1, p_lo_, p_scale_, n_phi_);
+      }
     }
     for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x)
-        f(static_cast<size_t>(y) * static_cast<size_t>(n_phi_) +
-          static_cast<size_t>(((x % n_phi_) + n_phi_) % n_phi_));
+      for (int x = x0; x <= x1; ++x) f(static_cast<size_t>(y) * static_cast<size_t>(n_phi_) + static_cast<size_t>(x));
   }
+  Vec3 ax_ = Vec3::UnitX(), ay_ = Vec3::UnitY(), az_ = Vec3::UnitZ();
+  double t_lo_ = 0, t_scale_ = 1, p_lo_ = 0, p_scale_ = 1;
   int n_theta_ = 0, n_phi_ = 0;
   std::vector<int> always_;
 
