@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <set>
 #include <optional>
 
 #include <nlohmann/json.hpp>
@@ -756,15 +757,50 @@ std::string format_scene(const Scene& scene) {
   nlohmann::ordered_json root;
   root["version"] = 1;
   nlohmann::ordered_json bodies = nlohmann::ordered_json::array();
+  // Two-sided faces (Body::two_sided_polygon) are written back as the open surface they came
+  // from: one "polyhedron" named after the surface, of every face's own polygon (face 0, its
+  // given orientation), vertices shared by exact value, which the reader takes as an open
+  // surface again. A two-sided body of no recorded surface (one added through the API) is
+  // written as a surface of its one polygon (read back, its body is <name>.f0).
+  const auto surface_of = [&](const std::string& name) -> const SceneSurface* {
+    for (const SceneSurface& s : scene.surfaces) {
+      const std::string prefix = s.name + ".f";
+      if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
+          name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
+        return &s;
+    }
+    return nullptr;
+  };
+  std::set<const SceneSurface*> written;
   for (const SceneBody& sb : scene.bodies()) {
     nlohmann::ordered_json b;
-    b["name"] = sb.name;
     nlohmann::ordered_json vertices = nlohmann::ordered_json::array();
-    for (const Vec3& p : sb.body.vertices()) vertices.push_back({p.x(), p.y(), p.z()});
     nlohmann::ordered_json faces = nlohmann::ordered_json::array();
-    for (const Face& f : sb.body.faces())
-      faces.push_back(f.loops.size() == 1 ? nlohmann::ordered_json(f.loops[0])
-                                          : nlohmann::ordered_json(f.loops));
+    if (sb.body.two_sided()) {
+      const SceneSurface* surface = surface_of(sb.name);
+      if (surface && !written.insert(surface).second) continue;
+      b["name"] = surface ? surface->name : sb.name;
+      std::map<std::array<double, 3>, int> index;
+      for (const SceneBody& other : scene.bodies()) {
+        if (surface ? surface_of(other.name) != surface : &other != &sb) continue;
+        if (!other.body.two_sided()) continue;
+        std::vector<int> polygon;
+        for (int v : other.body.faces()[0].loops[0]) {
+          const Vec3& p = other.body.vertices()[static_cast<size_t>(v)];
+          const auto [it, added] = index.emplace(std::array<double, 3>{p.x(), p.y(), p.z()},
+                                                 static_cast<int>(index.size()));
+          if (added) vertices.push_back({p.x(), p.y(), p.z()});
+          polygon.push_back(it->second);
+        }
+        faces.push_back(polygon);
+      }
+    } else {
+      b["name"] = sb.name;
+      for (const Vec3& p : sb.body.vertices()) vertices.push_back({p.x(), p.y(), p.z()});
+      for (const Face& f : sb.body.faces())
+        faces.push_back(f.loops.size() == 1 ? nlohmann::ordered_json(f.loops[0])
+                                            : nlohmann::ordered_json(f.loops));
+    }
     b["polyhedron"] = {{"vertices", vertices}, {"faces", faces}};
     const Material& m = sb.material;
     b["material"] = {{"color", {m.color.x(), m.color.y(), m.color.z()}},
