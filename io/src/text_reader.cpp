@@ -90,15 +90,19 @@ std::string read_file(const std::string& path, size_t max_bytes) {
     return IoError(path + ": " + size + " is more than the input limit of " +
                    std::to_string(max_bytes) + " bytes (HEDRA_MAX_INPUT_BYTES raises it)");
   };
-  // A regular file's size is known: checked before anything is read.
+  // A regular file's size is known: checked before anything is read, and reserved (with room
+  // for the last, short block), so the blocks below are not copied as the string grows.
+  size_t known_size = 0;
   if (fs::is_regular_file(status)) {
     const auto size = fs::file_size(path, ec);
     if (!ec && size > max_bytes) throw too_large("the file's " + std::to_string(size) + " bytes");
+    if (!ec) known_size = static_cast<size_t>(size);
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open the file for reading");
   // Read in blocks up to the limit: a device or a pipe (/dev/zero) has no size to check first.
   std::string bytes;
+  if (known_size > 0) bytes.reserve(std::min(known_size + (1 << 20), max_bytes + 1));
   constexpr size_t kBlock = 1 << 20;
   while (in) {
     const size_t at = bytes.size();
