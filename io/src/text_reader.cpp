@@ -13,6 +13,15 @@
 
 namespace hedra::io {
 
+namespace {
+
+// std::isspace in the "C" locale (hedra never sets another), without a library call per byte.
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
+}
+
+}  // namespace
+
 TextReader::TextReader(std::string path, std::string text)
     : path_(std::move(path)), text_(std::move(text)) {}
 
@@ -27,9 +36,9 @@ bool TextReader::next_line(char comment) {
     tokens_.clear();
     size_t i = 0;
     while (i < line.size()) {
-      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      while (i < line.size() && is_space(line[i])) ++i;
       size_t j = i;
-      while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+      while (j < line.size() && !is_space(line[j])) ++j;
       if (j > i) tokens_.push_back(line.substr(i, j - i));
       i = j;
     }

@@ -12,6 +12,7 @@
 #include <span>
 
 #include "hedra/core/face_geometry.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/predicates.h"
 #include "hedra/core/tolerance.h"
 #include "hedra/core/transform.h"
@@ -398,52 +399,64 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
                                 neighbour.data() + neighbour_start[static_cast<size_t>(x) + 1]);
   };
 
-  std::vector<int> out;
-  std::vector<int> stamp(v.size(), -1);
-  int top = -1;
-  for (int i = 0; i < n && top < 0; ++i)
-    if (on_hull[static_cast<size_t>(i)]) top = i;  // last maximum found: a good start for the next
-  for (int f = 0; f < body.face_count(); ++f) {
-    const auto& s = body.support(f);
-    const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
-               &c = v[static_cast<size_t>(s[2])];
-    auto phi = [&](int x) { return orient3d(a, b, c, v[static_cast<size_t>(x)]); };
-    bool own_outside = false;
-    for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
-      for (int x : loop) {
-        stamp[static_cast<size_t>(x)] = f;
-        if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive) own_outside = true;
-      }
-    bool outside = false;
-    if (own_outside) {
-      for (int x = 0; x < n && !outside; ++x)
-        outside = stamp[static_cast<size_t>(x)] != f && phi(x) == Sign::Positive;
-    } else {
-      // Every vertex of f is on or inside its plane, so a vertex strictly outside is not on f.
-      int start = -1;
-      for (int x : s)
-        if (on_hull[static_cast<size_t>(x)]) start = x;
-      if (start >= 0) {
-        for (int w : neighbours(start))
-          if (phi(w) == Sign::Positive) { outside = true; break; }
+  // Each face on its own, in parallel blocks: a face's answer is the sign of the largest
+  // value along its normal, whichever hull vertex the climb starts from, so the list does not
+  // depend on the blocks or threads. Each block keeps its own start and stamps.
+  int first_top = -1;
+  for (int i = 0; i < n && first_top < 0; ++i)
+    if (on_hull[static_cast<size_t>(i)]) first_top = i;
+  const int face_count = body.face_count();
+  std::vector<char> nonconvex(static_cast<size_t>(face_count), 0);
+  parallel_blocks(static_cast<size_t>(face_count), 0, 2048, [&](size_t begin, size_t end) {
+    int top = first_top;  // last maximum found: a good start for the next
+    std::vector<int> stamp;  // sized on the first face with a vertex outside its own plane
+    for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
+      const auto& s = body.support(f);
+      const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
+                 &c = v[static_cast<size_t>(s[2])];
+      auto phi = [&](int x) { return orient3d(a, b, c, v[static_cast<size_t>(x)]); };
+      const auto& loops = body.faces()[static_cast<size_t>(f)].loops;
+      bool own_outside = false;
+      for (const auto& loop : loops)
+        for (int x : loop)
+          if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive) own_outside = true;
+      bool outside = false;
+      if (own_outside) {
+        if (stamp.empty()) stamp.assign(v.size(), -1);
+        for (const auto& loop : loops)
+          for (int x : loop) stamp[static_cast<size_t>(x)] = f;
+        for (int x = 0; x < n && !outside; ++x)
+          outside = stamp[static_cast<size_t>(x)] != f && phi(x) == Sign::Positive;
       } else {
-        int u = top;
-        for (bool moved = true; moved;) {
-          moved = false;
-          for (int w : neighbours(u))
-            if (compare_along(a, b, c, v[static_cast<size_t>(w)], v[static_cast<size_t>(u)]) ==
-                Sign::Positive) {
-              u = w;
-              moved = true;
-              break;
-            }
+        // Every vertex of f is on or inside its plane, so a vertex strictly outside is not on f.
+        int start = -1;
+        for (int x : s)
+          if (on_hull[static_cast<size_t>(x)]) start = x;
+        if (start >= 0) {
+          for (int w : neighbours(start))
+            if (phi(w) == Sign::Positive) { outside = true; break; }
+        } else {
+          int u = top;
+          for (bool moved = true; moved;) {
+            moved = false;
+            for (int w : neighbours(u))
+              if (compare_along(a, b, c, v[static_cast<size_t>(w)], v[static_cast<size_t>(u)]) ==
+                  Sign::Positive) {
+                u = w;
+                moved = true;
+                break;
+              }
+          }
+          top = u;
+          outside = phi(u) == Sign::Positive;
         }
-        top = u;
-        outside = phi(u) == Sign::Positive;
       }
+      nonconvex[static_cast<size_t>(f)] = outside;
     }
-    if (outside) out.push_back(f);
-  }
+  });
+  std::vector<int> out;
+  for (int f = 0; f < face_count; ++f)
+    if (nonconvex[static_cast<size_t>(f)]) out.push_back(f);
   return out;
 }
 
