@@ -4,6 +4,10 @@
 #include <filesystem>
 #include <iostream>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "cli/clip.h"
 #include "cli/decompose.h"
 #include "hedra/scene/demo.h"
@@ -24,6 +28,19 @@ namespace {
 constexpr int kExitUsage = 2;
 constexpr int kExitInvalidInput = 3;
 
+// A large mesh's arrays (the file, its polygons, faces, half-edges, boxes) are allocated and
+// freed one after another. glibc maps each block over its mmap threshold afresh and unmaps it
+// on free, so every pass paid its page faults again (about a sixth of reading a 1M-triangle
+// file). Up to 32 MB blocks come from the heap instead, which keeps freed memory for reuse
+// (trimmed only beyond 1 GB free). A short-lived process: the memory is returned at exit.
+void tune_allocator() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_TOP_PAD, 64 << 20);
+#endif
+}
+
 int fail(const std::string& message, int code) {
   std::cerr << "hedra: error: " << hedra::cli::sanitize_message(message) << "\n";
   return code;
@@ -32,6 +49,7 @@ int fail(const std::string& message, int code) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tune_allocator();
   CLI::App app{"hedra: exact solid modeling for polyhedral scenes"};
   app.set_version_flag("--version", std::string("hedra ") + hedra::kVersion);
   app.require_subcommand(1);

@@ -50,6 +50,7 @@ PolygonSoup parse_off(const std::string& path, const std::string& text) {
       in.fail("face " + std::to_string(f) + " lists fewer than its " + std::to_string(k) +
               " vertex indices");
     std::vector<int> poly;
+    poly.reserve(static_cast<size_t>(k));
     for (long long j = 1; j <= k; ++j) {
       long long id = in.integer(j, "vertex index");
       if (id < 0 || id >= nv)

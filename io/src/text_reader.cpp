@@ -13,6 +13,15 @@
 
 namespace hedra::io {
 
+namespace {
+
+// std::isspace in the "C" locale (hedra never sets another), without a library call per byte.
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
+}
+
+}  // namespace
+
 TextReader::TextReader(std::string path, std::string text)
     : path_(std::move(path)), text_(std::move(text)) {}
 
@@ -27,9 +36,9 @@ bool TextReader::next_line(char comment) {
     tokens_.clear();
     size_t i = 0;
     while (i < line.size()) {
-      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      while (i < line.size() && is_space(line[i])) ++i;
       size_t j = i;
-      while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+      while (j < line.size() && !is_space(line[j])) ++j;
       if (j > i) tokens_.push_back(line.substr(i, j - i));
       i = j;
     }
@@ -90,15 +99,19 @@ std::string read_file(const std::string& path, size_t max_bytes) {
     return IoError(path + ": " + size + " is more than the input limit of " +
                    std::to_string(max_bytes) + " bytes (HEDRA_MAX_INPUT_BYTES raises it)");
   };
-  // A regular file's size is known: checked before anything is read.
+  // A regular file's size is known: checked before anything is read, and reserved (with room
+  // for the last, short block), so the blocks below are not copied as the string grows.
+  size_t known_size = 0;
   if (fs::is_regular_file(status)) {
     const auto size = fs::file_size(path, ec);
     if (!ec && size > max_bytes) throw too_large("the file's " + std::to_string(size) + " bytes");
+    if (!ec) known_size = static_cast<size_t>(size);
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(path + ": cannot open the file for reading");
   // Read in blocks up to the limit: a device or a pipe (/dev/zero) has no size to check first.
   std::string bytes;
+  if (known_size > 0) bytes.reserve(std::min(known_size + (1 << 20), max_bytes + 1));
   constexpr size_t kBlock = 1 << 20;
   while (in) {
     const size_t at = bytes.size();

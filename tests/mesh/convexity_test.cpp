@@ -1,5 +1,7 @@
 #include "hedra/mesh/convexity.h"
 
+#include "hedra/core/parallel.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -314,6 +316,24 @@ TEST(IsConvex, FloatRoundedTriangleSphereListsTheSameFacesAsTheDefinition) {
   Body rounded(v, f);
   expect_matches_oracle(rounded, "float sphere");
   EXPECT_FALSE(convexity(rounded).nonconvex_faces.empty());
+}
+
+TEST(IsConvex, ThousandsOfFloatRoundedFacesListTheDefinitionsFacesWhateverTheThreads) {
+  // Enough faces for several parallel blocks of the hull-based listing.
+  Body s = sphere({0.1, 0.2, 0.3}, 1, 6e-4);
+  std::vector<Vec3> v;
+  for (const Vec3& p : s.vertices())
+    v.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  std::vector<Face> f;
+  for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
+  Body rounded(v, f);
+  ASSERT_GT(rounded.face_count(), 3 * 2048) << rounded.face_count();
+  expect_matches_oracle(rounded, "float sphere, thousands of faces");
+  const std::vector<int> all_threads = convexity(rounded).nonconvex_faces;
+  std::vector<int> one_thread;
+  with_threads(1, [&] { one_thread = convexity(rounded).nonconvex_faces; });
+  EXPECT_FALSE(all_threads.empty());
+  EXPECT_EQ(all_threads, one_thread);
 }
 
 TEST(IsConvex, FineSphereIsConvex) {

@@ -3,10 +3,13 @@
 #include <gtest/gtest.h>
 
 #include "hedra/core/error.h"
+#include "hedra/core/predicates.h"
 #include "hedra/core/primitives.h"
 #include "hedra/core/triangulate.h"
 #include "testing/decomposition_suite.h"
 
+#include <algorithm>
+#include <array>
 #include <map>
 
 namespace hedra {
@@ -88,6 +91,96 @@ TEST(MergeCoplanar, ErrorsNameInputPolygons) {
   } catch (const InvalidInput& e) {
     EXPECT_NE(std::string(e.what()).find("face 3 is flipped"), std::string::npos) << e.what();
   }
+}
+
+// A box with every side cut into k × k squares, each split into two triangles: 12k² polygons.
+PolygonSoup gridded_box(int k) {
+  PolygonSoup s;
+  std::map<std::array<int, 3>, int> id;
+  auto vertex = [&](std::array<int, 3> g) {
+    auto [it, fresh] = id.emplace(g, static_cast<int>(s.vertices.size()));
+    if (fresh) s.vertices.emplace_back(g[0], g[1], g[2]);
+    return it->second;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = 0; side < 2; ++side)
+      for (int i = 0; i < k; ++i)
+        for (int j = 0; j < k; ++j) {
+          auto at = [&](int u, int w) {
+            std::array<int, 3> g{};
+            g[axis] = side * k;
+            g[(axis + 1) % 3] = u;
+            g[(axis + 2) % 3] = w;
+            return vertex(g);
+          };
+          const int a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+          // Counter-clockwise from outside: (u, w) turns positively on the far side.
+          if (side) {
+            s.polygons.push_back({a, b, c});
+            s.polygons.push_back({a, c, d});
+          } else {
+            s.polygons.push_back({a, c, b});
+            s.polygons.push_back({a, d, c});
+          }
+        }
+  return s;
+}
+
+TEST(MergeCoplanar, GriddedBoxMergesToSixFacesWithItsSoupNotCopied) {
+  const PolygonSoup s = gridded_box(30);  // 10 800 triangles: the parallel per-polygon pass
+  std::vector<Body> merged = bodies_from_soup(s);
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0].face_count(), 6);
+  EXPECT_EQ(merged[0].vertex_count(), 8);
+  EXPECT_EQ(merged[0].volume(), 27000);
+}
+
+TEST(MergeCoplanar, FirstZeroAreaPolygonIsNamedWhateverTheThreads) {
+  PolygonSoup s = gridded_box(30);
+  // Two grid vertices far apart in polygon order moved onto the line of two neighbours: some
+  // triangles around each become collinear; the lowest such polygon must be named.
+  auto flatten = [&](size_t polygon) {
+    const auto& t = s.polygons[polygon];
+    s.vertices[static_cast<size_t>(t[0])] = (s.vertices[t[1]] + s.vertices[t[2]]) / 2;
+  };
+  flatten(9000);
+  flatten(150);
+  int expected = -1;
+  for (size_t p = 0; p < s.polygons.size() && expected < 0; ++p) {
+    const auto& t = s.polygons[p];
+    if (collinear(s.vertices[t[0]], s.vertices[t[1]], s.vertices[t[2]])) expected = static_cast<int>(p);
+  }
+  ASSERT_GE(expected, 0);
+  try {
+    bodies_from_soup(s);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("polygon " + std::to_string(expected) + " has zero area"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(CheckPolygonMesh, PolygonsGiveTheFaceMessagesAndEachHalfEdgesTwin) {
+  PolygonSoup s = triangulated(box({0, 0, 0}, {1, 1, 1}));
+  std::vector<int> twin = check_polygon_mesh(s.vertices, s.polygons);
+  std::vector<std::pair<int, int>> half_edges;  // (from, to) polygon by polygon
+  for (const auto& poly : s.polygons)
+    for (size_t i = 0; i < poly.size(); ++i)
+      half_edges.emplace_back(poly[i], poly[(i + 1) % poly.size()]);
+  ASSERT_EQ(twin.size(), half_edges.size());
+  for (size_t h = 0; h < twin.size(); ++h) {
+    const auto [a, b] = half_edges[h];
+    EXPECT_EQ(half_edges[static_cast<size_t>(twin[h])], std::make_pair(b, a));
+  }
+  std::reverse(s.polygons[3].begin(), s.polygons[3].end());
+  std::vector<Face> faces;
+  for (const auto& poly : s.polygons) faces.emplace_back(poly);
+  std::string from_faces, from_polygons;
+  try { check_polygon_mesh(s.vertices, faces); } catch (const InvalidInput& e) { from_faces = e.what(); }
+  try { check_polygon_mesh(s.vertices, s.polygons); } catch (const InvalidInput& e) { from_polygons = e.what(); }
+  EXPECT_NE(from_faces.find("face 3 is flipped"), std::string::npos) << from_faces;
+  EXPECT_EQ(from_polygons, from_faces);
 }
 
 // The `--tolerance D` of the command: nearly coplanar faces merged and snapped planar, every

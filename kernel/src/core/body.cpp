@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <map>
 #include <numeric>
+#include <span>
 #include <string>
 
 #include "hedra/core/error.h"
@@ -65,15 +66,30 @@ void check_vertices(const std::vector<Vec3>& vertices) {
   }
 }
 
+// The loops of a face list, as the checks below read them: Body's faces, or the polygons of
+// a soup (each one loop), which are then checked without being copied into faces.
+struct FaceLoops {
+  const std::vector<Face>& faces;
+  size_t size() const { return faces.size(); }
+  std::span<const std::vector<int>> operator[](size_t f) const { return faces[f].loops; }
+};
+struct PolygonLoops {
+  const std::vector<std::vector<int>>& polygons;
+  size_t size() const { return polygons.size(); }
+  std::span<const std::vector<int>> operator[](size_t f) const { return {&polygons[f], 1}; }
+};
+
 // Stage: face lists.
-void check_faces(const std::vector<Face>& faces, size_t vertex_count) {
+template <class Loops>
+void check_faces(const Loops& faces, size_t vertex_count) {
   if (faces.size() < 4) throw InvalidInput("a body needs at least 4 faces, got " +
                                            std::to_string(faces.size()));
   std::vector<int> seen(vertex_count, -1);
   for (size_t f = 0; f < faces.size(); ++f) {
-    if (faces[f].loops.empty()) throw InvalidInput("face " + std::to_string(f) + " is empty");
-    for (size_t l = 0; l < faces[f].loops.size(); ++l) {
-      const auto& loop = faces[f].loops[l];
+    const std::span<const std::vector<int>> loops = faces[f];
+    if (loops.empty()) throw InvalidInput("face " + std::to_string(f) + " is empty");
+    for (size_t l = 0; l < loops.size(); ++l) {
+      const auto& loop = loops[l];
       auto where = [&] {  // built only for a message: a string per loop costs more than the check
         return "face " + std::to_string(f) + (l ? " (hole " + std::to_string(l) + ")" : "");
       };
@@ -96,16 +112,28 @@ void check_faces(const std::vector<Face>& faces, size_t vertex_count) {
       throw InvalidInput("vertex " + std::to_string(v) + " is not used by any face");
 }
 
-// Stage: orientation, closedness, manifold vertices; builds the edge list.
-std::vector<Edge> check_topology(const std::vector<Face>& faces, const std::vector<Vec3>& vertices) {
+// Stage: orientation, closedness, manifold vertices; builds the edge list. With `twin_out`,
+// also each half-edge's twin (half-edges in traversal order: face, loop, position).
+template <class Loops>
+std::vector<Edge> check_topology(const Loops& faces, const std::vector<Vec3>& vertices,
+                                 std::vector<int>* twin_out = nullptr) {
   const size_t vertex_count = vertices.size();
   // Half-edges h in traversal order (face, loop, position), grouped by their start vertex and
   // sorted by end vertex inside each group (counting sort, then a sort of each small group):
   // finding a directed edge is a binary search among the edges leaving one vertex. Cost
   // O(H log d), d the largest vertex degree; no hashing.
   std::vector<int> from, to, face_of, prev;
+  {
+    size_t corners = 0;
+    for (size_t f = 0; f < faces.size(); ++f)
+      for (const auto& loop : faces[f]) corners += loop.size();
+    from.reserve(corners);
+    to.reserve(corners);
+    face_of.reserve(corners);
+    prev.reserve(corners);
+  }
   for (size_t f = 0; f < faces.size(); ++f)
-    for (const auto& loop : faces[f].loops) {
+    for (const auto& loop : faces[f]) {
       const int base = static_cast<int>(from.size()), k = static_cast<int>(loop.size());
       for (int i = 0; i < k; ++i) {
         from.push_back(loop[static_cast<size_t>(i)]);
@@ -211,6 +239,7 @@ std::vector<Edge> check_topology(const std::vector<Face>& faces, const std::vect
   std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
     return std::tie(x.v0, x.v1) < std::tie(y.v0, y.v1);
   });
+  if (twin_out) *twin_out = std::move(twin);
   return edges;
 }
 
@@ -224,16 +253,25 @@ double body_scale(const std::vector<Vec3>& vertices, const Eigen::AlignedBox3d& 
 
 void check_polygon_mesh(const std::vector<Vec3>& vertices, const std::vector<Face>& faces) {
   check_vertices(vertices);
-  check_faces(faces, vertices.size());
-  check_topology(faces, vertices);
+  check_faces(FaceLoops{faces}, vertices.size());
+  check_topology(FaceLoops{faces}, vertices);
+}
+
+std::vector<int> check_polygon_mesh(const std::vector<Vec3>& vertices,
+                                    const std::vector<std::vector<int>>& polygons) {
+  check_vertices(vertices);
+  check_faces(PolygonLoops{polygons}, vertices.size());
+  std::vector<int> twin;
+  check_topology(PolygonLoops{polygons}, vertices, &twin);
+  return twin;
 }
 
 Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOptions& options) {
   auto impl = std::make_shared<Impl>();
   // Stage: combinatorial validation.
   check_vertices(vertices);
-  check_faces(faces, vertices.size());
-  impl->edges = check_topology(faces, vertices);
+  check_faces(FaceLoops{faces}, vertices.size());
+  impl->edges = check_topology(FaceLoops{faces}, vertices);
 
   impl->bbox.setEmpty();
   for (const Vec3& p : vertices) impl->bbox.extend(p);

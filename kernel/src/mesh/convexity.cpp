@@ -9,8 +9,10 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <span>
 
 #include "hedra/core/face_geometry.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/predicates.h"
 #include "hedra/core/tolerance.h"
 #include "hedra/core/transform.h"
@@ -337,7 +339,6 @@ Sign compare_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w, c
 // Cost O(V log V) for the hull, then O(hull degree) per face with a vertex on the hull.
 std::vector<int> nonconvex_faces_by_hull(const Body& body) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using Mesh = CGAL::Surface_mesh<K::Point_3>;
   const auto& v = body.vertices();
   const int n = body.vertex_count();
   std::vector<int> by_position(static_cast<size_t>(n));
@@ -350,75 +351,112 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
   std::vector<K::Point_3> points;
   points.reserve(v.size());
   for (const Vec3& p : v) points.emplace_back(p.x(), p.y(), p.z());
-  Mesh hull;
-  CGAL::convex_hull_3(points.begin(), points.end(), hull);
-  // Hull graph on body vertex indices (CSR); hull_id[i] >= 0 for hull vertices.
-  std::vector<int> hull_id(v.size(), -1), body_id;
-  for (auto hv : hull.vertices()) {
-    const K::Point_3& q = hull.point(hv);
+  // The hull as an indexed triangle set: no halfedge mesh is built from CGAL's triangulation
+  // (copying it into a Surface_mesh through hash maps took longer than the hull). The traits
+  // are the exact ones CGAL picks for a Surface_mesh; CGAL 5.5's own indexed-triangle-set
+  // overload takes the kernel's rounded Plane_3 instead, whose hull is not exact.
+  std::vector<K::Point_3> hull_points;
+  std::vector<std::array<std::size_t, 3>> hull_triangles;
+  {
+    using Traits = CGAL::Convex_hull_traits_3<K, CGAL::Surface_mesh<K::Point_3>, CGAL::Tag_true>;
+    CGAL::Convex_hull_3::internal::Indexed_triangle_set<std::vector<K::Point_3>,
+                                                        std::vector<std::array<std::size_t, 3>>>
+        its(hull_points, hull_triangles);
+    CGAL::convex_hull_3(points.begin(), points.end(), its, Traits());
+  }
+  // Hull graph on body vertex indices (CSR); on_hull[i] for hull vertices.
+  const size_t hull_size = hull_points.size();
+  std::vector<int> body_id(hull_size, -1);
+  std::vector<char> on_hull(v.size(), 0);
+  for (size_t h = 0; h < hull_size; ++h) {
+    const K::Point_3& q = hull_points[h];
     const Vec3 p(q.x(), q.y(), q.z());
     auto it = std::lower_bound(by_position.begin(), by_position.end(), -1, [&](int i, int) {
       const Vec3& r = v[static_cast<size_t>(i)];
       return std::tie(r.x(), r.y(), r.z()) < std::tie(p.x(), p.y(), p.z());
     });
-    hull_id[static_cast<size_t>(*it)] = static_cast<int>(hv.idx());
+    body_id[h] = *it;
+    on_hull[static_cast<size_t>(*it)] = 1;
   }
-  size_t hull_size = 0;
-  for (auto hv : hull.vertices()) hull_size = std::max(hull_size, static_cast<size_t>(hv.idx()) + 1);
-  body_id.assign(hull_size, -1);
-  for (int i = 0; i < n; ++i)
-    if (hull_id[static_cast<size_t>(i)] >= 0) body_id[static_cast<size_t>(hull_id[static_cast<size_t>(i)])] = i;
-  std::vector<std::vector<int>> neighbours(hull_size);
-  for (auto hv : hull.vertices())
-    for (auto w : CGAL::vertices_around_target(hull.halfedge(hv), hull))
-      neighbours[hv.idx()].push_back(body_id[w.idx()]);
+  // Neighbours of body vertex x: neighbour[neighbour_start[x] … neighbour_start[x + 1]), from
+  // both other corners of every hull triangle at x (so each hull neighbour is listed twice).
+  std::vector<int> neighbour_start(v.size() + 1, 0), neighbour;
+  for (const auto& t : hull_triangles)
+    for (std::size_t a : t) neighbour_start[static_cast<size_t>(body_id[a]) + 1] += 2;
+  for (size_t x = 0; x < v.size(); ++x) neighbour_start[x + 1] += neighbour_start[x];
+  neighbour.resize(static_cast<size_t>(neighbour_start[v.size()]));
+  {
+    std::vector<int> fill(neighbour_start.begin(), neighbour_start.end() - 1);
+    for (const auto& t : hull_triangles)
+      for (size_t i = 0; i < 3; ++i) {
+        const size_t a = static_cast<size_t>(body_id[t[i]]);
+        neighbour[static_cast<size_t>(fill[a]++)] = body_id[t[(i + 1) % 3]];
+        neighbour[static_cast<size_t>(fill[a]++)] = body_id[t[(i + 2) % 3]];
+      }
+  }
+  auto neighbours = [&](int x) {
+    return std::span<const int>(neighbour.data() + neighbour_start[static_cast<size_t>(x)],
+                                neighbour.data() + neighbour_start[static_cast<size_t>(x) + 1]);
+  };
 
-  std::vector<int> out;
-  std::vector<int> stamp(v.size(), -1);
-  int top = -1;
-  for (int i = 0; i < n && top < 0; ++i)
-    if (hull_id[static_cast<size_t>(i)] >= 0) top = i;  // last maximum found: a good start for the next
-  for (int f = 0; f < body.face_count(); ++f) {
-    const auto& s = body.support(f);
-    const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
-               &c = v[static_cast<size_t>(s[2])];
-    auto phi = [&](int x) { return orient3d(a, b, c, v[static_cast<size_t>(x)]); };
-    bool own_outside = false;
-    for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
-      for (int x : loop) {
-        stamp[static_cast<size_t>(x)] = f;
-        if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive) own_outside = true;
-      }
-    bool outside = false;
-    if (own_outside) {
-      for (int x = 0; x < n && !outside; ++x)
-        outside = stamp[static_cast<size_t>(x)] != f && phi(x) == Sign::Positive;
-    } else {
-      // Every vertex of f is on or inside its plane, so a vertex strictly outside is not on f.
-      int start = -1;
-      for (int x : s)
-        if (hull_id[static_cast<size_t>(x)] >= 0) start = x;
-      if (start >= 0) {
-        for (int w : neighbours[static_cast<size_t>(hull_id[static_cast<size_t>(start)])])
-          if (phi(w) == Sign::Positive) { outside = true; break; }
+  // Each face on its own, in parallel blocks: a face's answer is the sign of the largest
+  // value along its normal, whichever hull vertex the climb starts from, so the list does not
+  // depend on the blocks or threads. Each block keeps its own start and stamps.
+  int first_top = -1;
+  for (int i = 0; i < n && first_top < 0; ++i)
+    if (on_hull[static_cast<size_t>(i)]) first_top = i;
+  const int face_count = body.face_count();
+  std::vector<char> nonconvex(static_cast<size_t>(face_count), 0);
+  parallel_blocks(static_cast<size_t>(face_count), 0, 2048, [&](size_t begin, size_t end) {
+    int top = first_top;  // last maximum found: a good start for the next
+    std::vector<int> stamp;  // sized on the first face with a vertex outside its own plane
+    for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
+      const auto& s = body.support(f);
+      const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])],
+                 &c = v[static_cast<size_t>(s[2])];
+      auto phi = [&](int x) { return orient3d(a, b, c, v[static_cast<size_t>(x)]); };
+      const auto& loops = body.faces()[static_cast<size_t>(f)].loops;
+      bool own_outside = false;
+      for (const auto& loop : loops)
+        for (int x : loop)
+          if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive) own_outside = true;
+      bool outside = false;
+      if (own_outside) {
+        if (stamp.empty()) stamp.assign(v.size(), -1);
+        for (const auto& loop : loops)
+          for (int x : loop) stamp[static_cast<size_t>(x)] = f;
+        for (int x = 0; x < n && !outside; ++x)
+          outside = stamp[static_cast<size_t>(x)] != f && phi(x) == Sign::Positive;
       } else {
-        int u = top;
-        for (bool moved = true; moved;) {
-          moved = false;
-          for (int w : neighbours[static_cast<size_t>(hull_id[static_cast<size_t>(u)])])
-            if (compare_along(a, b, c, v[static_cast<size_t>(w)], v[static_cast<size_t>(u)]) ==
-                Sign::Positive) {
-              u = w;
-              moved = true;
-              break;
-            }
+        // Every vertex of f is on or inside its plane, so a vertex strictly outside is not on f.
+        int start = -1;
+        for (int x : s)
+          if (on_hull[static_cast<size_t>(x)]) start = x;
+        if (start >= 0) {
+          for (int w : neighbours(start))
+            if (phi(w) == Sign::Positive) { outside = true; break; }
+        } else {
+          int u = top;
+          for (bool moved = true; moved;) {
+            moved = false;
+            for (int w : neighbours(u))
+              if (compare_along(a, b, c, v[static_cast<size_t>(w)], v[static_cast<size_t>(u)]) ==
+                  Sign::Positive) {
+                u = w;
+                moved = true;
+                break;
+              }
+          }
+          top = u;
+          outside = phi(u) == Sign::Positive;
         }
-        top = u;
-        outside = phi(u) == Sign::Positive;
       }
+      nonconvex[static_cast<size_t>(f)] = outside;
     }
-    if (outside) out.push_back(f);
-  }
+  });
+  std::vector<int> out;
+  for (int f = 0; f < face_count; ++f)
+    if (nonconvex[static_cast<size_t>(f)]) out.push_back(f);
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <span>
 
 #include <Eigen/SVD>
 #include <string>
@@ -11,6 +12,7 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/predicates.h"
 #include "hedra/core/tolerance.h"
 #include "mesh/union_find.h"
@@ -65,13 +67,18 @@ namespace {
 struct CoplanarRegions {
   std::vector<int> region;                 // per polygon
   std::vector<int> seeds;                  // per region, its first polygon
-  std::vector<std::vector<int>> members;   // per region, its polygons in order
+  // Per region r, its polygons in order: member_list[member_start[r] … member_start[r + 1]).
+  std::vector<int> member_start, member_list;
+  std::span<const int> members(int r) const {
+    return {member_list.data() + member_start[static_cast<size_t>(r)],
+            member_list.data() + member_start[static_cast<size_t>(r) + 1]};
+  }
   bool snapped = false;
   std::vector<Vec3> moved;
 };
 
-// `twin(a, b)`: the polygon with directed edge b → a, or −1 (a boundary edge of an open
-// surface). `normals` and `supports` per polygon, every polygon of non-zero area unless
+// `twin(p, i)`: the polygon across edge i of polygon p (from its vertex i to vertex i + 1),
+// the one with the reverse directed edge, or −1 (a boundary edge of an open surface). `normals` and `supports` per polygon, every polygon of non-zero area unless
 // `plane_ids` decide coplanarity.
 // Cost O(n log n) plus O(R²) normal comparisons for R regions when snapping.
 template <class Twin>
@@ -86,6 +93,7 @@ CoplanarRegions grow_and_snap(const std::vector<Vec3>& v, const std::vector<std:
   std::vector<int>& region = out.region;
   std::vector<int>& seeds = out.seeds;
   region.assign(static_cast<size_t>(n), -1);
+  std::vector<int> queue;
   for (int s = 0; s < n; ++s) {
     if (region[s] >= 0) continue;
     const int r = static_cast<int>(seeds.size());
@@ -104,12 +112,12 @@ CoplanarRegions grow_and_snap(const std::vector<Vec3>& v, const std::vector<std:
       }
       return true;
     };
-    std::vector<int> queue{s};
+    queue.assign(1, s);
     region[s] = r;
     for (size_t head = 0; head < queue.size(); ++head) {
-      const auto& poly = polys[queue[head]];
-      for (size_t i = 0; i < poly.size(); ++i) {
-        int t = twin(poly[i], poly[(i + 1) % poly.size()]);
+      const int q = queue[head];
+      for (size_t i = 0; i < polys[q].size(); ++i) {
+        int t = twin(q, i);
         if (t >= 0 && region[t] < 0 && coplanar(t)) {
           region[t] = r;
           queue.push_back(t);
@@ -118,9 +126,16 @@ CoplanarRegions grow_and_snap(const std::vector<Vec3>& v, const std::vector<std:
     }
   }
   const int regions = static_cast<int>(seeds.size());
-  out.members.resize(static_cast<size_t>(regions));
-  std::vector<std::vector<int>>& members = out.members;
-  for (int p = 0; p < n; ++p) members[region[p]].push_back(p);
+  // Members by a counting sort on the region: ascending polygons within each region.
+  out.member_start.assign(static_cast<size_t>(regions) + 1, 0);
+  for (int p = 0; p < n; ++p) ++out.member_start[static_cast<size_t>(region[p]) + 1];
+  for (int r = 0; r < regions; ++r) out.member_start[r + 1] += out.member_start[r];
+  out.member_list.resize(static_cast<size_t>(n));
+  {
+    std::vector<int> fill(out.member_start.begin(), out.member_start.end() - 1);
+    for (int p = 0; p < n; ++p) out.member_list[static_cast<size_t>(fill[region[p]]++)] = p;
+  }
+  auto members = [&](int r) { return out.members(r); };
 
   // Step 3b (snapping, a positive coplanar tolerance without a planarity tolerance): a region
   // grown within the tolerance is not planar. It gets the plane fitted to it (area-weighted
@@ -139,7 +154,7 @@ CoplanarRegions grow_and_snap(const std::vector<Vec3>& v, const std::vector<std:
     for (int r = 0; r < regions; ++r) {
       const auto& sup = supports[seeds[r]];
       std::vector<int> corners;
-      for (int p : members[r]) {
+      for (int p : members(r)) {
         plane_normal[r] += normals[p];
         for (int w : polys[p]) {
           corners.push_back(w);
@@ -163,7 +178,7 @@ CoplanarRegions grow_and_snap(const std::vector<Vec3>& v, const std::vector<std:
     {
       std::vector<std::vector<int>> corners_of(regions);
       for (int r = 0; r < regions; ++r) {
-        for (int p : members[r]) corners_of[r].insert(corners_of[r].end(), polys[p].begin(), polys[p].end());
+        for (int p : members(r)) corners_of[r].insert(corners_of[r].end(), polys[p].begin(), polys[p].end());
         std::sort(corners_of[r].begin(), corners_of[r].end());
         corners_of[r].erase(std::unique(corners_of[r].begin(), corners_of[r].end()), corners_of[r].end());
       }
@@ -208,31 +223,43 @@ CoplanarRegions grow_and_snap(const std::vector<Vec3>& v, const std::vector<std:
 
 std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* plane_ids,
                              const MergeOptions& options) {
-  // Step 1: drop vertices no polygon uses, then the combinatorial checks on the soup.
-  PolygonSoup soup;
+  // Step 1: drop vertices no polygon uses, then the combinatorial checks on the soup. When
+  // every vertex is used (a clean file), the input is read in place, not copied.
+  PolygonSoup remapped;
+  const PolygonSoup* source = &input;
   {
     std::vector<int> remap(input.vertices.size(), -1);
     for (const auto& poly : input.polygons)
       for (int v : poly)
         if (v >= 0 && static_cast<size_t>(v) < remap.size()) remap[v] = 0;
-    for (size_t v = 0; v < remap.size(); ++v)
-      if (remap[v] == 0) {
-        remap[v] = static_cast<int>(soup.vertices.size());
-        soup.vertices.push_back(input.vertices[v]);
-      }
-    soup.polygons = input.polygons;
-    for (auto& poly : soup.polygons)
-      for (int& v : poly)
-        if (v >= 0 && static_cast<size_t>(v) < remap.size()) v = remap[v];
+    if (std::find(remap.begin(), remap.end(), -1) != remap.end()) {
+      for (size_t v = 0; v < remap.size(); ++v)
+        if (remap[v] == 0) {
+          remap[v] = static_cast<int>(remapped.vertices.size());
+          remapped.vertices.push_back(input.vertices[v]);
+        }
+      remapped.polygons = input.polygons;
+      for (auto& poly : remapped.polygons)
+        for (int& v : poly)
+          if (v >= 0 && static_cast<size_t>(v) < remap.size()) v = remap[v];
+      source = &remapped;
+    }
   }
-  std::vector<Face> raw;
-  raw.reserve(soup.polygons.size());
-  for (const auto& poly : soup.polygons) raw.emplace_back(poly);
-  check_polygon_mesh(soup.vertices, raw);
-
-  const auto& v = soup.vertices;
-  const auto& polys = soup.polygons;
+  const auto& v = source->vertices;
+  const auto& polys = source->polygons;
   const int n = static_cast<int>(polys.size());
+  // Half-edges polygon by polygon (corner i of p: first[p] + i), and the polygon across each.
+  std::vector<int> across = check_polygon_mesh(v, polys);
+  std::vector<int> first(static_cast<size_t>(n) + 1, 0);
+  for (int p = 0; p < n; ++p) first[p + 1] = first[p] + static_cast<int>(polys[p].size());
+  {
+    std::vector<int> polygon_of(across.size());
+    for (int p = 0; p < n; ++p)
+      std::fill(polygon_of.begin() + first[p], polygon_of.begin() + first[p + 1], p);
+    for (int& t : across) t = polygon_of[static_cast<size_t>(t)];
+  }
+  // The polygon with the reverse of edge i of polygon p (the surface is closed).
+  auto twin = [&](int p, size_t i) { return across[static_cast<size_t>(first[p]) + i]; };
 
   // Step 2: per-polygon normal and exact supporting triple.
   std::vector<Vec3> normals(n);
@@ -245,33 +272,34 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   int exponent = 0;
   if (max_abs > 0 && std::isfinite(max_abs)) std::frexp(max_abs, &exponent);
   const double normal_scale = std::ldexp(1.0, -2 * exponent);
-  for (int p = 0; p < n; ++p) {
-    const Vec3 oriented = oriented_normal(v, polys[p]);
-    normals[p] = oriented * normal_scale;
-    for (int axis = 0; axis < 3; ++axis)  // the scaling must not drop an exact sign
-      if (oriented[axis] != 0 && normals[p][axis] == 0)
-        normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
-    // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
-    // triangles, such as the corner faces of decomposition pieces written to files.
-    supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
-                                                  : support_triple(v, polys[p], normals[p]);
-    // With caller-given planes (exact pieces rounded to double), a triangle that rounding made
-    // flat is still a known part of its plane's region and vanishes in the merged face; only
-    // the faces built in the end must have area (Body checks them).
-    if (!plane_ids &&
-        (supports[p][2] < 0 || collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]])))
-      throw InvalidInput("polygon " + std::to_string(p) + " has zero area");
-  }
-  std::unordered_map<std::uint64_t, int> owner;  // directed edge -> polygon
-  for (int p = 0; p < n; ++p)
-    for (size_t i = 0; i < polys[p].size(); ++i)
-      owner[key(polys[p][i], polys[p][(i + 1) % polys[p].size()])] = p;
-  auto twin = [&](int a, int b) { return owner.at(key(b, a)); };
+  // Each polygon on its own (in parallel, each result in its own place); the first polygon
+  // of zero area is reported afterwards, so the message does not depend on the threads.
+  std::vector<char> zero_area(static_cast<size_t>(n), 0);
+  parallel_blocks(static_cast<size_t>(n), 0, 4096, [&](size_t begin, size_t end) {
+    for (size_t p = begin; p < end; ++p) {
+      const Vec3 oriented = oriented_normal(v, polys[p]);
+      normals[p] = oriented * normal_scale;
+      for (int axis = 0; axis < 3; ++axis)  // the scaling must not drop an exact sign
+        if (oriented[axis] != 0 && normals[p][axis] == 0)
+          normals[p][axis] = std::copysign(std::numeric_limits<double>::min(), oriented[axis]);
+      // Exactly zero, as in Body: Eigen's isZero() is fuzzy (1e-12) and rejected real, tiny
+      // triangles, such as the corner faces of decomposition pieces written to files.
+      supports[p] = (normals[p].array() == 0).all() ? std::array<int, 3>{-1, -1, -1}
+                                                    : support_triple(v, polys[p], normals[p]);
+      zero_area[p] = supports[p][2] < 0 ||
+                     collinear(v[supports[p][0]], v[supports[p][1]], v[supports[p][2]]);
+    }
+  });
+  // With caller-given planes (exact pieces rounded to double), a triangle that rounding made
+  // flat is still a known part of its plane's region and vanishes in the merged face; only
+  // the faces built in the end must have area (Body checks them).
+  if (!plane_ids)
+    if (const auto it = std::find(zero_area.begin(), zero_area.end(), 1); it != zero_area.end())
+      throw InvalidInput("polygon " + std::to_string(it - zero_area.begin()) + " has zero area");
 
   const CoplanarRegions grown = grow_and_snap(v, polys, normals, supports, twin, plane_ids, options);
   const std::vector<int>& region = grown.region;
   const std::vector<int>& seeds = grown.seeds;
-  const std::vector<std::vector<int>>& members = grown.members;
   const int regions = static_cast<int>(seeds.size());
   const bool snap = grown.snapped;
   const std::vector<Vec3>& moved = grown.moved;
@@ -279,18 +307,29 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
 
   // Step 4: each region's boundary loops become one face (outer loop first, then holes).
   // A region whose boundary touches itself, or that has several outer loops, stays split.
-  std::vector<std::vector<Face>> faces_of_region(regions);
+  // The faces of region r: merged[face_start[r] … face_start[r + 1]).
+  std::vector<Face> merged;
+  merged.reserve(static_cast<size_t>(regions));
+  std::vector<int> face_start(static_cast<size_t>(regions) + 1, 0);
   for (int r = 0; r < regions; ++r) {
+    const std::span<const int> members = grown.members(r);
+    if (members.size() == 1) {
+      // One polygon: its boundary is the polygon itself (its vertices are distinct), whether
+      // it becomes the face or stays split.
+      merged.emplace_back(polys[members[0]]);
+      face_start[r + 1] = static_cast<int>(merged.size());
+      continue;
+    }
     std::unordered_map<int, std::pair<int, int>> next;  // from -> (to, uses)
     std::vector<std::pair<int, int>> order;             // boundary edges in input order
     bool pinched = false;
     Vec3 normal = Vec3::Zero();
-    for (int p : members[r]) {
+    for (int p : members) {
       normal += normals[p];
       const auto& poly = polys[p];
       for (size_t i = 0; i < poly.size(); ++i) {
         int a = poly[i], b = poly[(i + 1) % poly.size()];
-        if (region[twin(a, b)] == r) continue;
+        if (region[twin(p, i)] == r) continue;
         if (!next.emplace(a, std::make_pair(b, 0)).second) pinched = true;
         order.emplace_back(a, b);
       }
@@ -321,10 +360,11 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
     if ((plane_ids || snap) && !pinched && outers == 1 && !planar_after_rounding(mv, loops))
       pinched = true;
     if (pinched || outers != 1) {
-      for (int p : members[r]) faces_of_region[r].emplace_back(polys[p]);
+      for (int p : members) merged.emplace_back(polys[p]);
     } else {
-      faces_of_region[r].emplace_back(std::move(loops));
+      merged.emplace_back(std::move(loops));
     }
+    face_start[r + 1] = static_cast<int>(merged.size());
   }
 
   // Step 5: drop vertices that only two faces of different planes share: they lie on the line
@@ -334,31 +374,33 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   {
     std::vector<int> first_region(v.size(), -1), second_region(v.size(), -1), faces_at(v.size(), 0);
     for (int r = 0; r < regions; ++r)
-      for (const Face& face : faces_of_region[r])
-        for (const auto& loop : face.loops)
+      for (int f = face_start[r]; f < face_start[r + 1]; ++f)
+        for (const auto& loop : merged[f].loops)
           for (int w : loop) {
             ++faces_at[w];
             if (first_region[w] < 0) first_region[w] = r;
             else if (second_region[w] < 0) second_region[w] = r;
           }
     std::vector<char> removable(v.size(), 0);
-    for (size_t w = 0; w < v.size(); ++w)
+    bool any = false;
+    for (size_t w = 0; w < v.size(); ++w) {
       removable[w] = faces_at[w] == 2 && second_region[w] >= 0 && first_region[w] != second_region[w];
-    // A loop must keep three vertices; if it would not, its vertices stay (in every face).
-    for (bool changed = true; changed;) {
-      changed = false;
-      for (int r = 0; r < regions; ++r)
-        for (const Face& face : faces_of_region[r])
-          for (const auto& loop : face.loops) {
-            size_t kept = 0;
-            for (int w : loop) kept += !removable[w];
-            if (kept >= 3) continue;
-            for (int w : loop)
-              if (removable[w]) { removable[w] = 0; changed = true; }
-          }
+      any = any || removable[w];
     }
-    for (int r = 0; r < regions; ++r)
-      for (Face& face : faces_of_region[r])
+    // A loop must keep three vertices; if it would not, its vertices stay (in every face).
+    for (bool changed = any; changed;) {
+      changed = false;
+      for (const Face& face : merged)
+        for (const auto& loop : face.loops) {
+          size_t kept = 0;
+          for (int w : loop) kept += !removable[w];
+          if (kept >= 3) continue;
+          for (int w : loop)
+            if (removable[w]) { removable[w] = 0; changed = true; }
+        }
+    }
+    if (any)
+      for (Face& face : merged)
         for (auto& loop : face.loops)
           std::erase_if(loop, [&](int w) { return removable[w] != 0; });
   }
@@ -366,8 +408,7 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   // Step 6: connected components (polygons sharing an edge), one Body each.
   UnionFind components(n);
   for (int p = 0; p < n; ++p)
-    for (size_t i = 0; i < polys[p].size(); ++i)
-      components.unite(p, twin(polys[p][i], polys[p][(i + 1) % polys[p].size()]));
+    for (size_t i = 0; i < polys[p].size(); ++i) components.unite(p, twin(p, i));
   std::vector<int> component_of_root(n, -1);
   std::vector<std::vector<int>> component_regions;
   for (int r = 0; r < regions; ++r) {
@@ -384,19 +425,26 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
   for (size_t c = 0; c < component_regions.size(); ++c) {
     // Vertices keep their input order, so a body read from a clean file keeps its numbers.
     std::vector<int> remap(v.size(), -1);
-    for (int r : component_regions[c])
-      for (const Face& face : faces_of_region[r])
-        for (const auto& loop : face.loops)
+    size_t face_count = 0;
+    for (int r : component_regions[c]) {
+      face_count += static_cast<size_t>(face_start[r + 1] - face_start[r]);
+      for (int f = face_start[r]; f < face_start[r + 1]; ++f)
+        for (const auto& loop : merged[f].loops)
           for (int w : loop) remap[w] = 0;
+    }
     std::vector<Vec3> vertices;
+    vertices.reserve(component_regions.size() == 1 ? v.size() : 0);
     for (size_t w = 0; w < v.size(); ++w)
       if (remap[w] == 0) {
         remap[w] = static_cast<int>(vertices.size());
         vertices.push_back(mv[w]);
       }
+    // Each face belongs to one component: moved, not copied.
     std::vector<Face> faces;
+    faces.reserve(face_count);
     for (int r : component_regions[c])
-      for (Face face : faces_of_region[r]) {
+      for (int f = face_start[r]; f < face_start[r + 1]; ++f) {
+        Face& face = merged[f];
         for (auto& loop : face.loops)
           for (int& w : loop) w = remap[w];
         faces.push_back(std::move(face));
@@ -459,8 +507,9 @@ SnappedSurface snap_surface(const PolygonSoup& soup, double tolerance) {
       if (!owner.emplace(key(polys[p][i], polys[p][(i + 1) % polys[p].size()]), p).second)
         throw InvalidInput("polygon " + std::to_string(p) + " repeats a directed edge");
   }
-  auto twin = [&](int a, int b) {
-    const auto it = owner.find(key(b, a));
+  auto twin = [&](int p, size_t i) {
+    const auto& poly = polys[p];
+    const auto it = owner.find(key(poly[(i + 1) % poly.size()], poly[i]));
     return it == owner.end() ? -1 : it->second;
   };
   MergeOptions options;

@@ -154,6 +154,13 @@ class Body {
 /// polygon soup, so messages name the input's own face and vertex numbers.
 /// \throw InvalidInput. Cost O(V + E).
 void check_polygon_mesh(const std::vector<Vec3>& vertices, const std::vector<Face>& faces);
+/// The same checks on polygons of one loop each (a polygon soup), without copying them into
+/// faces; the same messages as for faces. Returns each half-edge's twin: half-edges numbered
+/// polygon by polygon, corner i of polygon p running from its vertex i to vertex i + 1;
+/// every half-edge has one, as the surface is closed. Cost O(H log d) for H corners and
+/// largest vertex degree d.
+std::vector<int> check_polygon_mesh(const std::vector<Vec3>& vertices,
+                                    const std::vector<std::vector<int>>& polygons);
 
 /// Signs the columns of a plane matrix the course's way: each column is multiplied by −1
 /// when the interior point s gives a negative value (docs/algorithms.md §1).
