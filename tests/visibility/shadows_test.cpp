@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "hedra/decompose/decompose.h"
@@ -780,6 +781,36 @@ TEST(PolygonUnion, RandomConvexPolygonsAgreeWithCgal) {
     chained += mine.chained;
   }
   EXPECT_EQ(chained, 40);
+}
+
+// Long thin pieces across the whole grid, crossing each other at shallow angles (the shadows
+// of a star's spikes under a low light): the grid lists each in the cells its polygon meets,
+// not every cell of its box, and must still find every pair that meets.
+TEST(PolygonUnion, LongThinCrossingPiecesAgreeWithCgal) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (int trial = 0; trial < 6; ++trial) {
+    std::vector<Ring2> pieces;
+    for (int k = 0; k < 40 + 20 * trial; ++k) {
+      // A chord of a circle of radius 20 (chords cross all over the grid), 0.02 to 0.4 wide.
+      const double a = 2 * std::numbers::pi * u(rng), b = a + 0.3 + 2 * u(rng), w = 0.01 + 0.2 * u(rng);
+      const Vec2 c(20 * std::cos(a), 20 * std::sin(a)), e(20 * std::cos(b), 20 * std::sin(b));
+      const double len = (e - c).norm();
+      const Vec2 d = (e - c) / len, n(-d.y(), d.x());
+      Ring2 r{c - w * n, c + len * d, c + w * n};
+      if (trial % 2) r = {c - w * n, c + len * d - w * n, c + len * d + w * n, c + w * n};
+      pieces.push_back(r);
+    }
+    const UnionResult mine = unite_convex(pieces, true);
+    const UnionResult ref = cgal_union(pieces, true);
+    EXPECT_TRUE(mine.chained) << trial;  // else the polygons would be CGAL's own
+    EXPECT_NEAR(mine.area, ref.area, 1e-12 * ref.area) << trial;
+    for (int k = 0; k < 2000; ++k) {
+      const Vec2 q(-25 + 50 * u(rng), -25 + 50 * u(rng));
+      if (near_boundary(ref.polygons, q, 1e-9)) continue;
+      EXPECT_EQ(inside(mine.polygons, q), inside(ref.polygons, q)) << trial << " " << q.transpose();
+    }
+  }
 }
 
 }  // namespace

@@ -467,10 +467,20 @@ bool chain(std::vector<Portion> portions, std::vector<PolygonWithHoles2>& result
   return true;
 }
 
-// Candidate pieces for a box: a uniform grid over the pieces' boxes.
+// Candidate pieces for an edge: a uniform grid in which each piece is listed in the cells its
+// polygon meets (not every cell of its box), and an edge visits only the cells its segment
+// crosses. Long thin pieces across the grid (the shadows of a star's spikes under a low
+// light) then meet only their true neighbours: with box cells every edge visited every piece
+// listed anywhere in its box, hundreds of times over.
+// Conservative by construction: per row of cells, the x-range of the polygon (or segment)
+// within the row's strip, both widened by a relative margin far above rounding, so any point
+// common to a piece and an edge lies in a cell both list; the exact decisions are made later
+// (coverage), the grid only drops pairs that cannot meet. Cost O(rows × k) per piece of k
+// vertices and O(rows) per edge, rows of the grid its box spans.
 class PieceGrid {
  public:
-  PieceGrid(const std::vector<Box2>& boxes) : boxes_(boxes) {
+  PieceGrid(const std::vector<Ring2>& pieces, const std::vector<Box2>& boxes)
+      : boxes_(boxes) {
     const size_t m = boxes.size();
     if (m <= 16) return;  // brute force
     lo_ = boxes[0].lo;
@@ -480,39 +490,48 @@ class PieceGrid {
       hi = hi.cwiseMax(b.hi);
     }
     const int g =
-        std::clamp(static_cast<int>(std::ceil(std::sqrt(static_cast<double>(m)))), 1, 1024);
+        std::clamp(static_cast<int>(std::ceil(1 * std::sqrt(static_cast<double>(m)))), 1, 1024);
     nx_ = ny_ = g;
-    const Vec2 size = (hi - lo_).cwiseMax(Vec2(1e-300, 1e-300));
-    inv_ = Vec2(nx_ / size.x(), ny_ / size.y());
+    size_ = (hi - lo_).cwiseMax(Vec2(1e-300, 1e-300));
+    inv_ = Vec2(nx_ / size_.x(), ny_ / size_.y());
     cells_.assign(static_cast<size_t>(nx_ * ny_) + 1, 0);
     // Counting sort into a compressed row layout.
-    for (const Box2& b : boxes) for_cells(b, [&](int c) { ++cells_[static_cast<size_t>(c) + 1]; });
+    for (size_t k = 0; k < m; ++k)
+      for_ring_cells(pieces[k], boxes[k], [&](int c) {
+        ++cells_[static_cast<size_t>(c) + 1];
+        return true;
+      });
     for (size_t c = 1; c < cells_.size(); ++c) cells_[c] += cells_[c - 1];
     items_.resize(static_cast<size_t>(cells_.back()));
     std::vector<int> fill(cells_.begin(), cells_.end() - 1);
     for (size_t k = 0; k < m; ++k)
-      for_cells(boxes[k], [&](int c) {
+      for_ring_cells(pieces[k], boxes[k], [&](int c) {
         items_[static_cast<size_t>(fill[static_cast<size_t>(c)]++)] = static_cast<int>(k);
+        return true;
       });
     stamp_.assign(m, -1);
   }
 
-  // Pieces whose boxes meet `box` (closed), each once.
+  // Pieces that may meet segment ab (closed) and whose boxes meet its box, each once, until
+  // f returns false.
   template <class F>
-  void query(const Box2& box, int key, F&& f) {
+  void query(const Vec2& a, const Vec2& b, int key, F&& f) {
+    const Box2 box{a.cwiseMin(b), a.cwiseMax(b)};
     const size_t m = boxes_.size();
     if (cells_.empty()) {
       for (size_t k = 0; k < m; ++k)
-        if (boxes_[k].overlaps(box)) f(static_cast<int>(k));
+        if (boxes_[k].overlaps(box) && !f(static_cast<int>(k))) return;
       return;
     }
-    for_cells(box, [&](int c) {
+    const Ring2 seg{a, b};
+    for_ring_cells(seg, box, [&](int c) {
       for (int q = cells_[static_cast<size_t>(c)]; q < cells_[static_cast<size_t>(c) + 1]; ++q) {
         const int k = items_[static_cast<size_t>(q)];
         if (stamp_[static_cast<size_t>(k)] == key) continue;
         stamp_[static_cast<size_t>(k)] = key;
-        if (boxes_[static_cast<size_t>(k)].overlaps(box)) f(k);
+        if (boxes_[static_cast<size_t>(k)].overlaps(box) && !f(k)) return false;
       }
+      return true;
     });
   }
 
@@ -522,18 +541,52 @@ class PieceGrid {
     if (!(x > 0)) return 0;
     return static_cast<int>(std::min(x, static_cast<double>(n - 1)));
   }
+  // The cells a convex ring (or a segment: a ring of two points) meets, until f returns false,
+  // row by row: in row y,
+  // the x-range of the ring's edges clipped to the row's strip (the first and last rows reach
+  // to infinity), widened by the margins.
   template <class F>
-  void for_cells(const Box2& b, F&& f) const {
-    const int x0 = cell(b.lo.x(), lo_.x(), inv_.x(), nx_),
-              x1 = cell(b.hi.x(), lo_.x(), inv_.x(), nx_);
-    const int y0 = cell(b.lo.y(), lo_.y(), inv_.y(), ny_),
-              y1 = cell(b.hi.y(), lo_.y(), inv_.y(), ny_);
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) f(y * nx_ + x);
+  void for_ring_cells(const Ring2& ring, const Box2& b, F&& f) const {
+    const int y0 = cell(b.lo.y(), lo_.y(), inv_.y(), ny_), y1 = cell(b.hi.y(), lo_.y(), inv_.y(), ny_);
+    const double h = size_.y() / ny_, w = size_.x() / nx_;
+    const double my = 1e-6 * h + 1e-12 * (std::abs(lo_.y()) + size_.y());
+    const double mx = 1e-6 * w + 1e-12 * (std::abs(lo_.x()) + size_.x());
+    const double inf = std::numeric_limits<double>::infinity();
+    const size_t n = ring.size();
+    for (int y = y0; y <= y1; ++y) {
+      const double s0 = y == 0 ? -inf : lo_.y() + y * h - my;
+      const double s1 = y == ny_ - 1 ? inf : lo_.y() + (y + 1) * h + my;
+      double x0 = inf, x1 = -inf;
+      for (size_t k = 0; k < n; ++k) {
+        const Vec2& p = ring[k];
+        const Vec2& q = ring[(k + 1) % n];
+        const double pl = std::min(p.y(), q.y()), ph = std::max(p.y(), q.y());
+        if (ph < s0 || pl > s1) continue;
+        if (p.y() == q.y()) {
+          x0 = std::min({x0, p.x(), q.x()});
+          x1 = std::max({x1, p.x(), q.x()});
+          continue;
+        }
+        // The edge's part within the strip: its ends at y = max(pl, s0) and min(ph, s1).
+        const double t0 = (std::max(pl, s0) - p.y()) / (q.y() - p.y());
+        const double t1 = (std::min(ph, s1) - p.y()) / (q.y() - p.y());
+        for (const double t : {t0, t1}) {
+          const double x = p.x() + std::clamp(t, 0.0, 1.0) * (q.x() - p.x());
+          x0 = std::min(x0, x);
+          x1 = std::max(x1, x);
+        }
+      }
+      if (x0 > x1) continue;
+      x0 = std::max(x0 - mx, b.lo.x() - mx);
+      x1 = std::min(x1 + mx, b.hi.x() + mx);
+      const int c0 = cell(x0, lo_.x(), inv_.x(), nx_), c1 = cell(x1, lo_.x(), inv_.x(), nx_);
+      for (int x = c0; x <= c1; ++x)
+        if (!f(y * nx_ + x)) return;
+    }
   }
 
   const std::vector<Box2>& boxes_;
-  Vec2 lo_ = Vec2::Zero(), inv_ = Vec2::Ones();
+  Vec2 lo_ = Vec2::Zero(), size_ = Vec2::Ones(), inv_ = Vec2::Ones();
   int nx_ = 0, ny_ = 0;
   std::vector<int> cells_, items_, stamp_;
 };
@@ -568,7 +621,7 @@ UnionResult unite_convex(const std::vector<Ring2>& pieces, bool want_polygons) {
   std::vector<Box2> boxes;
   boxes.reserve(pieces.size());
   for (const Ring2& r : pieces) boxes.push_back(box_of(r));
-  PieceGrid grid(boxes);
+  PieceGrid grid(pieces, boxes);
 
   // Stage 1: for every edge, the parts not covered by another piece.
   const Vec2 origin = boxes[0].lo;
@@ -580,17 +633,17 @@ UnionResult unite_convex(const std::vector<Ring2>& pieces, bool want_polygons) {
     const Ring2& ring = pieces[i];
     for (size_t k = 0; k < ring.size(); ++k) {
       const Edge2 e = make_edge(ring[k], ring[(k + 1) % ring.size()]);
-      Box2 eb{e.a.cwiseMin(e.b), e.a.cwiseMax(e.b)};
       covered.clear();
       bool whole = false;  // some piece covers all of the edge: nothing more to learn
-      grid.query(eb, key++, [&](int j) {
-        if (whole || static_cast<size_t>(j) == i) return;
+      grid.query(e.a, e.b, key++, [&](int j) {
+        if (static_cast<size_t>(j) == i) return true;
         const size_t before = covered.size();
         coverage(e, static_cast<int>(i), pieces[static_cast<size_t>(j)], j, covered);
         for (size_t q = before; q < covered.size(); ++q)
           if (covered[q].lo.explicit_point && covered[q].lo.p == e.a &&
               covered[q].hi.explicit_point && covered[q].hi.p == e.b)
             whole = true;
+        return !whole;
       });
       if (whole) continue;
       // Stage 2: the gaps between the covered intervals, in exact order along the edge.

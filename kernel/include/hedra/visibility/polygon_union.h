@@ -12,7 +12,8 @@
 // along an edge (a degree-4 polynomial sign, filtered then exact with CGAL::Mpzf), coincidence
 // and direction of edges. Crossing points are rounded, each computed from its two edges in a
 // canonical order so both edges get the same point. Cost O(e·m) for e edges that meet m other
-// pieces (a uniform grid over the pieces' boxes finds them), plus exact arithmetic only for
+// pieces (a uniform grid, each piece listed in the cells its polygon meets, finds them; an
+// edge stops at the first piece that covers all of it), plus exact arithmetic only for
 // near-degenerate configurations.
 #pragma once
 
