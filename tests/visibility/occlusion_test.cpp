@@ -104,5 +104,34 @@ TEST(Occlusion, AgreesWithASlabTestOnRandomPoints) {
   EXPECT_GT(hidden, 500);
 }
 
+// The Body-free volume of a triangle (Occluders::Faces, shadows) has the very planes of
+// occlusion_volume on the two-sided triangle: same defining points, same sides, same order.
+TEST(Occlusion, TriangleVolumeEqualsTheTwoSidedBodys) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int compared = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const std::array<Vec3, 3> t{Vec3(u(rng), u(rng), u(rng)), Vec3(u(rng), u(rng), u(rng)),
+                                Vec3(u(rng), u(rng), u(rng))};
+    const Body body = Body::two_sided_polygon({t[0], t[1], t[2]});
+    const Viewpoint view = trial % 2 ? Viewpoint::at(Vec3(5 * u(rng), 5 * u(rng), 5 * u(rng)))
+                                     : Viewpoint::towards(Vec3(u(rng), u(rng), u(rng)));
+    const ExactPlane plane = exact_face_plane(body, 0);
+    if (facing(plane, view) != Facing::Front) continue;
+    const OcclusionVolume a = occlusion_volume(body, view), b = triangle_occlusion_volume(t, plane, view);
+    ASSERT_TRUE(a.clipper && b.clipper);
+    const auto &pa = a.clipper->planes(), &pb = b.clipper->planes();
+    ASSERT_EQ(pa.size(), pb.size()) << trial;
+    for (size_t i = 0; i < pa.size(); ++i) {
+      EXPECT_EQ(pa[i].points(), pb[i].points()) << trial << " " << i;
+      EXPECT_EQ(pa[i].negated(), pb[i].negated()) << trial << " " << i;
+      EXPECT_EQ(pa[i].by_direction(), pb[i].by_direction()) << trial << " " << i;
+    }
+    EXPECT_EQ(a.silhouette, b.silhouette);
+    ++compared;
+  }
+  EXPECT_GT(compared, 150);
+}
+
 }  // namespace
 }  // namespace hedra

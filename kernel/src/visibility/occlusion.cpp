@@ -164,6 +164,27 @@ OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facin
   return out;
 }
 
+OcclusionVolume triangle_occlusion_volume(const std::array<Vec3, 3>& t, const ExactPlane& plane,
+                                          const Viewpoint& view) {
+  OcclusionVolume out;
+  out.front_faces.push_back(0);
+  std::vector<ExactPlane> planes;
+  planes.reserve(4);
+  planes.push_back(plane);
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    out.silhouette.emplace_back(i, j);
+    const std::optional<ExactPlane> edge_plane = silhouette_plane(t[static_cast<size_t>(i)], t[static_cast<size_t>(j)], view);
+    if (!edge_plane) continue;
+    // The third corner is off the plane: on it, the viewpoint would lie in the triangle's plane.
+    const Sign side = side_of_plane(*edge_plane, t[static_cast<size_t>(k)]);
+    if (side == Sign::Zero) throw InvalidInput("occlusion volume: the body is flat");
+    planes.push_back(side == Sign::Positive ? *edge_plane : edge_plane->flipped());
+  }
+  out.clipper = ConvexClipper::from_planes(std::move(planes));
+  return out;
+}
+
 bool hides(const OcclusionVolume& volume, const Vec3& p) {
   if (!volume.clipper) return false;
   for (const ExactPlane& f : volume.clipper->planes())

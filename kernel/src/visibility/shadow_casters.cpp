@@ -81,7 +81,7 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vect
   std::vector<int> ids;
   for (size_t p = 0; p < pieces.size(); ++p) {
     if (!volumes[p].clipper) continue;
-    Bounds b = bounds(pieces[p].shape.vertices());
+    Bounds b = bounds(pieces[p].vertices());
     boxes_.push_back(b);
     ids.push_back(static_cast<int>(p));
   }
@@ -106,7 +106,7 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vect
               [&](size_t c) { items_[static_cast<size_t>(fill[c]++)] = static_cast<int>(k); });
   ids_ = std::move(ids);
 }
-CasterIndex::Bounds CasterIndex::bounds(const std::vector<Vec3>& pts) const {
+CasterIndex::Bounds CasterIndex::bounds(std::span<const Vec3> pts) const {
   Bounds b{Vec2(1e300, 1e300), Vec2(-1e300, -1e300), 1e300, -1e300};
   for (const Vec3& p : pts) {
     const Vec2 q(p.dot(e1_), p.dot(e2_));

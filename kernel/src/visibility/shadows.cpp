@@ -51,8 +51,8 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
   // thousands of nearly coincident corners sent the union to its exact fallback). The
   // decisions (sides of the plane, inside the part) are exact on the rounded projections.
   const auto project_triangle = [&](const ShadowPiece& piece) {
-    const auto& tv = piece.shape.vertices();
-    if (tv.size() != 3) return false;
+    if (piece.shape) return false;
+    const auto& tv = piece.triangle;
     const Vec3& n = fd.normal;
     const double lit = view.at_infinity ? n.dot(view.direction) : n.dot(fd.anchor - view.point);
     ring.resize(3);
@@ -116,11 +116,15 @@ std::vector<OcclusionVolume> ShadowScene::Impl::volumes(const Viewpoint& view,
   std::vector<OcclusionVolume> v(pieces.size());
   parallel_for(pieces.size(), threads, [&](size_t p) {
     const ShadowPiece& piece = pieces[p];
+    if (!piece.shape) {
+      // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
+      if (facing(piece.planes[0], view) == Facing::Front)
+        v[p] = triangle_occlusion_volume(piece.triangle, piece.planes[0], view);
+      return;
+    }
     std::vector<Facing> turned(piece.planes.size());
     for (size_t f = 0; f < piece.planes.size(); ++f) turned[f] = facing(piece.planes[f], view);
-    // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
-    if (piece.face >= 0 && turned[0] != Facing::Front) return;
-    v[p] = occlusion_volume(piece.shape, turned, view, piece.planes);
+    v[p] = occlusion_volume(*piece.shape, turned, view, piece.planes);
   });
   return v;
 }
@@ -150,7 +154,7 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
   std::vector<std::vector<Body>> pieces(m.bodies.size());
   std::vector<std::vector<std::vector<ExactPlane>>> piece_planes(m.bodies.size());
   std::vector<std::vector<std::vector<std::pair<int, int>>>> exact_planes(m.bodies.size());
-  std::vector<std::vector<int>> piece_faces(m.bodies.size());
+  std::vector<std::vector<ShadowPiece>> triangle_pieces(m.bodies.size());
   parallel_for(m.bodies.size(), 0, [&](size_t b) {
     ShadowBody& bd = m.bodies[b];
     bd.faces.resize(static_cast<size_t>(bd.body.face_count()));
@@ -168,19 +172,40 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     } else if (occludes_by_faces(bd.body, m.occluders)) {
       // Closed: the faces turned to a viewpoint hide everything the body hides from it
       // (hedra/visibility/occlusion.h, Occluders::Faces).
+      // Its pieces are its faces' triangles (as face_triangles_of gives them, in the same
+      // order), kept as corners and the plane of their support triple, with no Body each.
       bd.faceted = true;
-      std::vector<int> all(bd.faces.size());
-      for (size_t f = 0; f < all.size(); ++f) all[f] = static_cast<int>(f);
-      std::vector<FaceTriangle> triangles = face_triangles_of(bd.body, all);
-      piece_planes[b].resize(triangles.size());
-      parallel_blocks(triangles.size(), 0, 1024, [&](size_t begin, size_t end) {
-        for (size_t k = begin; k != end; ++k)
-          for (int g = 0; g < triangles[k].triangle.face_count(); ++g)
-            piece_planes[b][k].push_back(exact_face_plane(triangles[k].triangle, g));
+      const auto& v = bd.body.vertices();
+      const auto& all = bd.body.triangles();
+      std::vector<char> keep(all.size());
+      std::vector<ExactPlane> planes_of(all.size());
+      parallel_blocks(all.size(), 0, 4096, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k != end; ++k) {
+          const Triangle& t = all[k];
+          const Vec3 &p = v[static_cast<size_t>(t.v[0])], &q = v[static_cast<size_t>(t.v[1])],
+                     &r = v[static_cast<size_t>(t.v[2])];
+          if (collinear(p, q, r)) continue;  // none by contract: a triangle hiding nothing
+          keep[k] = 1;
+          // The triangle's support triple: its own order from its lexicographically smallest
+          // corner (support_triple), as Body::two_sided_polygon takes it.
+          const std::array<const Vec3*, 3> c{&p, &q, &r};
+          size_t first = 0;
+          for (size_t i = 1; i < 3; ++i)
+            if (std::lexicographical_compare(c[i]->data(), c[i]->data() + 3, c[first]->data(),
+                                             c[first]->data() + 3))
+              first = i;
+          planes_of[k] = ExactPlane::through(*c[first], *c[(first + 1) % 3], *c[(first + 2) % 3]);
+        }
       });
-      for (FaceTriangle& t : triangles) {
-        piece_faces[b].push_back(t.face);
-        pieces[b].push_back(std::move(t.triangle));
+      triangle_pieces[b].reserve(all.size());
+      for (size_t k = 0; k < all.size(); ++k) {
+        if (!keep[k]) continue;
+        const Triangle& t = all[k];
+        ShadowPiece pd(std::array<Vec3, 3>{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
+                                           v[static_cast<size_t>(t.v[2])]});
+        pd.planes.push_back(planes_of[k]);
+        pd.face = t.face;
+        triangle_pieces[b].push_back(std::move(pd));
       }
     } else {
       try {
@@ -199,21 +224,26 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     }
   });
   size_t total_pieces = 0;
-  for (const auto& p : pieces) total_pieces += p.size();
+  for (size_t b = 0; b < m.bodies.size(); ++b) total_pieces += pieces[b].size() + triangle_pieces[b].size();
   m.pieces.reserve(total_pieces);
   for (size_t b = 0; b < m.bodies.size(); ++b) {
-    for (size_t k = 0; k < pieces[b].size(); ++k) {
-      ShadowPiece pd(std::move(pieces[b][k]));
-      pd.planes = std::move(piece_planes[b][k]);
-      if (k < exact_planes[b].size()) pd.exact_planes = std::move(exact_planes[b][k]);
-      if (k < piece_faces[b].size()) pd.face = piece_faces[b][k];
+    const auto add = [&](ShadowPiece&& pd) {
       pd.body = static_cast<int>(b);
-      pd.box = pd.shape.bbox();
+      pd.box.setEmpty();
+      for (const Vec3& p : pd.vertices()) pd.box.extend(p);
       pd.centre = pd.box.center();
       pd.radius = 0.5 * pd.box.diagonal().norm();
       m.bodies[b].pieces.push_back(static_cast<int>(m.pieces.size()));
       m.pieces.push_back(std::move(pd));
+    };
+    for (size_t k = 0; k < pieces[b].size(); ++k) {
+      ShadowPiece pd(std::move(pieces[b][k]));
+      pd.planes = std::move(piece_planes[b][k]);
+      if (k < exact_planes[b].size()) pd.exact_planes = std::move(exact_planes[b][k]);
+      add(std::move(pd));
     }
+    for (ShadowPiece& pd : triangle_pieces[b]) add(std::move(pd));
+    triangle_pieces[b] = {};
     ShadowBody& bd = m.bodies[b];
     if (!bd.convex && !bd.faceted) {
       bd.own_adjacent.resize(bd.faces.size());
@@ -229,7 +259,7 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
             for (const auto& c : model.face_planes[f])
               on = on || std::binary_search(pd.exact_planes.begin(), pd.exact_planes.end(), c);
           } else {
-            on = piece_on_face_plane(pd.shape, bd.faces[f], scale);
+            on = piece_on_face_plane(*pd.shape, bd.faces[f], scale);
           }
           if (on)
             bd.own_adjacent[f].push_back(p);

@@ -9,6 +9,8 @@
 #include <numbers>
 #include <string>
 #include <utility>
+#include <array>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -101,9 +103,19 @@ ShadowPolygon whole_face(const Body& body, int f);
 
 struct ShadowPiece {
   explicit ShadowPiece(Body b) : shape(std::move(b)) {}
+  explicit ShadowPiece(const std::array<Vec3, 3>& t) : triangle(t) {}
   int body = 0;  // index into Impl::bodies
-  Body shape;
-  std::vector<ExactPlane> planes;  // face planes (face_plane)
+  // A convex piece; empty for a triangle of a body occluding by its faces, which keeps only
+  // its corners (a million-face mesh makes a million triangles: no Body each).
+  std::optional<Body> shape;
+  std::array<Vec3, 3> triangle{};
+  std::span<const Vec3> vertices() const {
+    if (shape) return shape->vertices();
+    return triangle;
+  }
+  // Face planes (exact_face_plane); a triangle: the plane of its face 0 (the body face's
+  // orientation) only.
+  std::vector<ExactPlane> planes;
   // The exact piece's faces (Decomposition::piece_planes); empty: none given.
   std::vector<std::pair<int, int>> exact_planes;
   Eigen::AlignedBox3d box;
@@ -231,7 +243,7 @@ class CasterIndex {
     Vec2 lo, hi;
     double depth_lo, depth_hi;
   };
-  Bounds bounds(const std::vector<Vec3>& pts) const;
+  Bounds bounds(std::span<const Vec3> pts) const;
   size_t cell(double v, double lo, double inv) const {
     const double x = (v - lo) * inv;
     if (!(x > 0)) return 0;

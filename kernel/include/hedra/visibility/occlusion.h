@@ -3,6 +3,8 @@
 // (hedra/visibility/shadows.h): docs/design.md, "Data flow"; docs/algorithms.md §6.4.
 #pragma once
 
+#include <array>
+
 #include <optional>
 #include <span>
 #include <utility>
@@ -76,6 +78,15 @@ OcclusionVolume occlusion_volume(const Body& convex_body, const Viewpoint& view)
 OcclusionVolume occlusion_volume(const Body& convex_body, std::span<const Facing> facing,
                                  const Viewpoint& view,
                                  std::span<const ExactPlane> face_planes = {});
+
+/// The occlusion volume of a triangle turned to the viewpoint (Occluders::Faces), without
+/// building a Body: `plane` is the plane of the triangle's support triple (exact_face_plane of
+/// face 0 of Body::two_sided_polygon(t)), and the planes are those occlusion_volume gives for
+/// that two-sided triangle when its face 0 is Front: that plane, then the planes through edges
+/// (t0, t1), (t1, t2), (t2, t0) and the viewpoint, each oriented by the third corner. Cost O(1).
+/// \pre facing(plane, view) == Facing::Front.
+OcclusionVolume triangle_occlusion_volume(const std::array<Vec3, 3>& t, const ExactPlane& plane,
+                                          const Viewpoint& view);
 
 /// How a closed, non-convex body occludes in hidden lines and shadows.
 ///  - Pieces: its exact convex decomposition (hedra/decompose/decompose.h), each piece's
