@@ -84,10 +84,20 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
     }
     return false;
   };
+  const bool front = facing(fd.plane, view) == Facing::Front;
   index.candidates(corners, fd.centre, fd.radius, [&](int p) {
     // A convex body never hides its own faces; pieces of a non-convex one may.
     if (pieces[static_cast<size_t>(p)].body == b && bd.skips(f, p, pieces[static_cast<size_t>(p)])) return;
-    if (pieces[static_cast<size_t>(p)].face >= 0 && project_triangle(pieces[static_cast<size_t>(p)])) {
+    const ShadowPiece& piece = pieces[static_cast<size_t>(p)];
+    if (!piece.shape && front) {
+      // A triangle in the closed inner half-space of a face turned to the viewpoint meets
+      // the segment from the viewpoint to a point X of the face at X at most: it hides
+      // nothing of it (on a tessellated sphere, the neighbours every front face meets).
+      bool before = false;
+      for (const Vec3& c : piece.triangle) before = before || side_of_plane(fd.plane, c) == Sign::Negative;
+      if (!before) return;
+    }
+    if (piece.face >= 0 && project_triangle(piece)) {
       out.push_back(ring);
       return;
     }
@@ -118,8 +128,8 @@ std::vector<OcclusionVolume> ShadowScene::Impl::volumes(const Viewpoint& view,
     const ShadowPiece& piece = pieces[p];
     if (!piece.shape) {
       // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
-      if (facing(piece.planes[0], view) == Facing::Front)
-        v[p] = triangle_occlusion_volume(piece.triangle, piece.planes[0], view);
+      if (facing(piece.triangle_plane, view) == Facing::Front)
+        v[p] = triangle_occlusion_volume(piece.triangle, piece.triangle_plane, view);
       return;
     }
     std::vector<Facing> turned(piece.planes.size());
@@ -154,7 +164,6 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
   std::vector<std::vector<Body>> pieces(m.bodies.size());
   std::vector<std::vector<std::vector<ExactPlane>>> piece_planes(m.bodies.size());
   std::vector<std::vector<std::vector<std::pair<int, int>>>> exact_planes(m.bodies.size());
-  std::vector<std::vector<ShadowPiece>> triangle_pieces(m.bodies.size());
   parallel_for(m.bodies.size(), 0, [&](size_t b) {
     ShadowBody& bd = m.bodies[b];
     bd.faces.resize(static_cast<size_t>(bd.body.face_count()));
@@ -172,41 +181,8 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     } else if (occludes_by_faces(bd.body, m.occluders)) {
       // Closed: the faces turned to a viewpoint hide everything the body hides from it
       // (hedra/visibility/occlusion.h, Occluders::Faces).
-      // Its pieces are its faces' triangles (as face_triangles_of gives them, in the same
-      // order), kept as corners and the plane of their support triple, with no Body each.
+      // Its pieces are its faces' triangles, made below (faceted_pieces).
       bd.faceted = true;
-      const auto& v = bd.body.vertices();
-      const auto& all = bd.body.triangles();
-      std::vector<char> keep(all.size());
-      std::vector<ExactPlane> planes_of(all.size());
-      parallel_blocks(all.size(), 0, 4096, [&](size_t begin, size_t end) {
-        for (size_t k = begin; k != end; ++k) {
-          const Triangle& t = all[k];
-          const Vec3 &p = v[static_cast<size_t>(t.v[0])], &q = v[static_cast<size_t>(t.v[1])],
-                     &r = v[static_cast<size_t>(t.v[2])];
-          if (collinear(p, q, r)) continue;  // none by contract: a triangle hiding nothing
-          keep[k] = 1;
-          // The triangle's support triple: its own order from its lexicographically smallest
-          // corner (support_triple), as Body::two_sided_polygon takes it.
-          const std::array<const Vec3*, 3> c{&p, &q, &r};
-          size_t first = 0;
-          for (size_t i = 1; i < 3; ++i)
-            if (std::lexicographical_compare(c[i]->data(), c[i]->data() + 3, c[first]->data(),
-                                             c[first]->data() + 3))
-              first = i;
-          planes_of[k] = ExactPlane::through(*c[first], *c[(first + 1) % 3], *c[(first + 2) % 3]);
-        }
-      });
-      triangle_pieces[b].reserve(all.size());
-      for (size_t k = 0; k < all.size(); ++k) {
-        if (!keep[k]) continue;
-        const Triangle& t = all[k];
-        ShadowPiece pd(std::array<Vec3, 3>{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
-                                           v[static_cast<size_t>(t.v[2])]});
-        pd.planes.push_back(planes_of[k]);
-        pd.face = t.face;
-        triangle_pieces[b].push_back(std::move(pd));
-      }
     } else {
       try {
         Decomposition d = decompose(bd.body);
@@ -223,27 +199,71 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       }
     }
   });
+  // The triangles of the bodies occluding by their faces, as face_triangles_of gives them (in
+  // order, collinear ones dropped: none by contract), kept as corners and one plane each.
+  std::vector<std::vector<const Triangle*>> faceted(m.bodies.size());
   size_t total_pieces = 0;
-  for (size_t b = 0; b < m.bodies.size(); ++b) total_pieces += pieces[b].size() + triangle_pieces[b].size();
-  m.pieces.reserve(total_pieces);
   for (size_t b = 0; b < m.bodies.size(); ++b) {
-    const auto add = [&](ShadowPiece&& pd) {
-      pd.body = static_cast<int>(b);
-      pd.box.setEmpty();
-      for (const Vec3& p : pd.vertices()) pd.box.extend(p);
-      pd.centre = pd.box.center();
-      pd.radius = 0.5 * pd.box.diagonal().norm();
-      m.bodies[b].pieces.push_back(static_cast<int>(m.pieces.size()));
-      m.pieces.push_back(std::move(pd));
-    };
+    total_pieces += pieces[b].size();
+    if (!m.bodies[b].faceted) continue;
+    const Body& body = m.bodies[b].body;
+    const auto& v = body.vertices();
+    for (const Triangle& t : body.triangles())
+      if (!collinear(v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])], v[static_cast<size_t>(t.v[2])]))
+        faceted[b].push_back(&t);
+    total_pieces += faceted[b].size();
+  }
+  m.pieces.reserve(total_pieces);
+  const auto place = [](ShadowPiece& pd) {
+    pd.box.setEmpty();
+    for (const Vec3& p : pd.vertices()) pd.box.extend(p);
+    pd.centre = pd.box.center();
+    pd.radius = 0.5 * pd.box.diagonal().norm();
+  };
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
+    ShadowBody& body_data = m.bodies[b];
     for (size_t k = 0; k < pieces[b].size(); ++k) {
       ShadowPiece pd(std::move(pieces[b][k]));
       pd.planes = std::move(piece_planes[b][k]);
       if (k < exact_planes[b].size()) pd.exact_planes = std::move(exact_planes[b][k]);
-      add(std::move(pd));
+      pd.body = static_cast<int>(b);
+      place(pd);
+      body_data.pieces.push_back(static_cast<int>(m.pieces.size()));
+      m.pieces.push_back(std::move(pd));
     }
-    for (ShadowPiece& pd : triangle_pieces[b]) add(std::move(pd));
-    triangle_pieces[b] = {};
+    if (faceted[b].empty()) continue;
+    const size_t first = m.pieces.size();
+    const auto& v = body_data.body.vertices();
+    for (const Triangle* t : faceted[b]) {
+      body_data.pieces.push_back(static_cast<int>(m.pieces.size()));
+      m.pieces.emplace_back(std::array<Vec3, 3>{v[static_cast<size_t>(t->v[0])], v[static_cast<size_t>(t->v[1])],
+                                                v[static_cast<size_t>(t->v[2])]});
+    }
+    parallel_blocks(faceted[b].size(), 0, 4096, [&](size_t begin, size_t end) {
+      for (size_t k = begin; k != end; ++k) {
+        ShadowPiece& pd = m.pieces[first + k];
+        const Triangle& t = *faceted[b][k];
+        pd.body = static_cast<int>(b);
+        pd.face = t.face;
+        // The plane of the triangle's support triple: its own order from its lexicographically
+        // smallest corner (support_triple, Body::two_sided_polygon). A triangular face's own
+        // plane is that very plane (make_face built it already).
+        const ShadowFace& fd = body_data.faces[static_cast<size_t>(t.face)];
+        if (body_data.body.faces()[static_cast<size_t>(t.face)].loops.size() == 1 && fd.corners.size() == 3 &&
+            fd.corners[0] == pd.triangle[0] && fd.corners[1] == pd.triangle[1] && fd.corners[2] == pd.triangle[2]) {
+          pd.triangle_plane = fd.plane;
+        } else {
+          const auto& c = pd.triangle;
+          size_t f0 = 0;
+          for (size_t i = 1; i < 3; ++i)
+            if (std::lexicographical_compare(c[i].data(), c[i].data() + 3, c[f0].data(), c[f0].data() + 3)) f0 = i;
+          pd.triangle_plane = ExactPlane::through(c[f0], c[(f0 + 1) % 3], c[(f0 + 2) % 3]);
+        }
+        place(pd);
+      }
+    });
+  }
+  for (size_t b = 0; b < m.bodies.size(); ++b) {
     ShadowBody& bd = m.bodies[b];
     if (!bd.convex && !bd.faceted) {
       bd.own_adjacent.resize(bd.faces.size());

@@ -113,9 +113,10 @@ struct ShadowPiece {
     if (shape) return shape->vertices();
     return triangle;
   }
-  // Face planes (exact_face_plane); a triangle: the plane of its face 0 (the body face's
-  // orientation) only.
-  std::vector<ExactPlane> planes;
+  std::vector<ExactPlane> planes;  // a convex piece's face planes (exact_face_plane)
+  // A triangle: the plane of its support triple (exact_face_plane of face 0 of
+  // Body::two_sided_polygon(triangle), the body face's orientation).
+  ExactPlane triangle_plane;
   // The exact piece's faces (Decomposition::piece_planes); empty: none given.
   std::vector<std::pair<int, int>> exact_planes;
   Eigen::AlignedBox3d box;
