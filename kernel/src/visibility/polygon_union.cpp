@@ -83,6 +83,8 @@ inline Orient orient(const Vec2& a, const Vec2& b, const Vec2& c) {
   // exactly collinear, without the slow path.
   if ((a.x() == b.x() && b.x() == c.x()) || (a.y() == b.y() && b.y() == c.y()))
     return {0, Sign::Zero};
+  // Two of the points equal (pieces sharing a vertex: the projected triangles of a mesh).
+  if (c == a || c == b || a == b) return {0, Sign::Zero};
   return {v, exact_sign([&](auto zero) { return orient_value<decltype(zero)>(a, b, c); })};
 }
 

@@ -206,9 +206,14 @@ class CasterIndex {
         // Depth: the face's farthest point must lie beyond the piece's nearest.
         if (fd + fr < pd - pr) continue;
         if (pd > pr && fd > fr) {
-          const double a = std::asin(std::min(1.0, pr / pd)) + std::asin(std::min(1.0, fr / fd));
-          const double cosang = std::clamp(pc.dot(fc) / (pd * fd), -1.0, 1.0);
-          if (a < std::numbers::pi && std::acos(cosang) > a + 1e-9) continue;
+          // The cones (half-angles α, β: sin α = pr / pd, sin β = fr / fd) are apart when the
+          // angle between their axes exceeds α + β + 1e-9: its cosine below cos(α + β + 1e-9)
+          // ≈ cos(α + β) − 1e-9 sin(α + β), less a rounding slack (no asin or acos: this runs
+          // for every candidate of every face).
+          const double sa = std::min(1.0, pr / pd), sb = std::min(1.0, fr / fd);
+          const double ca = std::sqrt(1 - sa * sa), cb = std::sqrt(1 - sb * sb);
+          const double cos_sum = ca * cb - sa * sb, sin_sum = sa * cb + ca * sb;
+          if (pc.dot(fc) / (pd * fd) < cos_sum - 1e-9 * sin_sum - 1e-14) continue;
         }
         f(p);
       }
