@@ -4,7 +4,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <map>
+#include <algorithm>
+#include <vector>
 
 #include "hedra/io/text_reader.h"
 #include "hedra/core/error.h"
@@ -12,14 +13,56 @@
 namespace hedra::io {
 namespace {
 
+// Welds the triangles' corners into shared vertices: equal coordinates (== on doubles, so
+// −0 and +0 are one point) get one id, ids in order of first appearance, the vertex stored as
+// first seen. An open-addressing hash table on the coordinates' bits (−0 folded into +0),
+// grown by doubling: O(1) per corner expected (was a std::map: O(log n) with a cache miss per
+// level, most of the time of reading a million-triangle file).
 struct Welder {
   PolygonSoup soup;
-  std::map<std::array<double, 3>, int> ids;
+  std::vector<int> slots;  // vertex id + 1, 0 empty; size a power of two
+  size_t mask = 0;
+
+  explicit Welder(size_t expected_vertices = 0) { rehash(std::max<size_t>(64, 2 * expected_vertices)); }
+
+  static std::uint64_t bits(double v) {
+    v += 0.0;  // −0 → +0
+    std::uint64_t u;
+    std::memcpy(&u, &v, 8);
+    return u;
+  }
+  static std::uint64_t hash(const Vec3& p) {
+    std::uint64_t h = bits(p.x()) * 0x9E3779B97F4A7C15ull;
+    h ^= bits(p.y()) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+    h ^= bits(p.z()) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+    h ^= h >> 33;
+    h *= 0xFF51AFD7ED558CCDull;
+    h ^= h >> 33;
+    return h;
+  }
+  void rehash(size_t size) {
+    size_t n = 64;
+    while (n < size) n *= 2;
+    slots.assign(n, 0);
+    mask = n - 1;
+    for (size_t i = 0; i < soup.vertices.size(); ++i) {
+      size_t at = hash(soup.vertices[i]) & mask;
+      while (slots[at] != 0) at = (at + 1) & mask;
+      slots[at] = static_cast<int>(i) + 1;
+    }
+  }
   int id(const Vec3& p) {
-    auto [it, inserted] = ids.emplace(std::array<double, 3>{p.x(), p.y(), p.z()},
-                                      static_cast<int>(soup.vertices.size()));
-    if (inserted) soup.vertices.push_back(p);
-    return it->second;
+    size_t at = hash(p) & mask;
+    while (slots[at] != 0) {
+      const int v = slots[at] - 1;
+      if (soup.vertices[static_cast<size_t>(v)] == p) return v;
+      at = (at + 1) & mask;
+    }
+    const int v = static_cast<int>(soup.vertices.size());
+    soup.vertices.push_back(p);
+    slots[at] = v + 1;
+    if (2 * soup.vertices.size() > slots.size()) rehash(2 * slots.size());
+    return v;
   }
   void triangle(const Vec3& a, const Vec3& b, const Vec3& c) {
     soup.polygons.push_back({id(a), id(b), id(c)});
@@ -29,7 +72,9 @@ struct Welder {
 PolygonSoup parse_binary(const std::string& path, const std::string& bytes) {
   std::uint32_t n = 0;
   std::memcpy(&n, bytes.data() + 80, 4);
-  Welder w;
+  // A closed triangle mesh has about half as many vertices as triangles.
+  Welder w(n / 2 + 16);
+  w.soup.polygons.reserve(n);
   for (std::uint32_t t = 0; t < n; ++t) {
     const char* record = bytes.data() + 84 + 50 * static_cast<size_t>(t);
     Vec3 p[3];
