@@ -4,6 +4,12 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
+
+#include <algorithm>
+#include <array>
+#include <tuple>
+
+#include "hedra/core/parallel.h"
 #include <CGAL/intersections.h>
 
 #include <algorithm>
@@ -128,24 +134,59 @@ std::optional<SelfIntersection> search(const Input& in) {
     }
     boxes.emplace_back(p.bbox() + q.bbox() + r.bbox(), t);
   }
-  std::vector<const Box*> pointers;
-  pointers.reserve(boxes.size());
-  for (const Box& b : boxes) pointers.push_back(&b);
-
-  int first = -1, second = -1;
-  // Closed boxes: boxes that only touch are reported, so are faces that only touch.
-  auto callback = [&](const Box* x, const Box* y) {
-    const int s = x->info(), t = y->info();
-    if (face(in, s) == face(in, t)) return;  // a face's own triangulation is valid
-    if (!intersect(in, s, t)) return;
-    first = s;
-    second = t;
-    throw Found{};
-  };
-  try {
-    CGAL::box_self_intersection_d<CGAL::Sequential_tag>(pointers.begin(), pointers.end(), callback);
-  } catch (const Found&) {
+  // Two halves across the median x of the boxes' centres: boxes wholly left of it (L), wholly
+  // right (R) and across (S). Every meeting pair lies in L ∪ S, or in R, or in R × S, so two
+  // traversals cover them all and run in parallel; each stops at its first intersecting pair
+  // and the smaller pair (by faces, then triangles) is reported, so the answer does not
+  // depend on the thread count.
+  std::vector<double> centres(boxes.size());
+  for (size_t k = 0; k < boxes.size(); ++k) centres[k] = boxes[k].min_coord(0) + boxes[k].max_coord(0);
+  double split = 0;
+  if (!centres.empty()) {
+    auto mid = centres.begin() + static_cast<std::ptrdiff_t>(centres.size() / 2);
+    std::nth_element(centres.begin(), mid, centres.end());
+    split = 0.5 * *mid;
   }
+  std::vector<const Box*> left_across, right, across;
+  for (const Box& b : boxes) {
+    if (b.max_coord(0) < split) {
+      left_across.push_back(&b);
+    } else if (b.min_coord(0) > split) {
+      right.push_back(&b);
+    } else {
+      left_across.push_back(&b);
+      across.push_back(&b);
+    }
+  }
+  std::array<std::pair<int, int>, 2> found{std::pair{-1, -1}, std::pair{-1, -1}};
+  // Closed boxes: boxes that only touch are reported, so are faces that only touch.
+  const auto run = [&](size_t part) {
+    auto callback = [&](const Box* x, const Box* y) {
+      const int s = x->info(), t = y->info();
+      if (face(in, s) == face(in, t)) return;  // a face's own triangulation is valid
+      if (!intersect(in, s, t)) return;
+      found[part] = {s, t};
+      throw Found{};
+    };
+    try {
+      if (part == 0) {
+        CGAL::box_self_intersection_d<CGAL::Sequential_tag>(left_across.begin(), left_across.end(), callback);
+      } else {
+        CGAL::box_self_intersection_d<CGAL::Sequential_tag>(right.begin(), right.end(), callback);
+        CGAL::box_intersection_d<CGAL::Sequential_tag>(right.begin(), right.end(), across.begin(), across.end(),
+                                                       callback);
+      }
+    } catch (const Found&) {
+    }
+  };
+  parallel_for(2, 0, run);
+  const auto key = [&](const std::pair<int, int>& p) {
+    return std::tuple(std::min(face(in, p.first), face(in, p.second)),
+                      std::max(face(in, p.first), face(in, p.second)), std::min(p.first, p.second));
+  };
+  int first = -1, second = -1;
+  for (const auto& p : found)
+    if (p.first >= 0 && (first < 0 || key(p) < key({first, second}))) std::tie(first, second) = p;
   if (first < 0) return std::nullopt;
   SelfIntersection hit;
   hit.face_a = std::min(face(in, first), face(in, second));
