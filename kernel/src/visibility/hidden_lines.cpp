@@ -164,18 +164,18 @@ void Roberts::check_view() {
   depth_margin_ = kCullingMargin * std::max(dmax, 1e-300);
 }
 
-Eigen::AlignedBox2d Roberts::picture_box(const Body& body) const {
+Eigen::AlignedBox2d Roberts::picture_box(std::span<const Vec3> vertices) const {
   Eigen::AlignedBox2d box;
   box.setEmpty();
-  for (const Vec3& p : body.vertices()) box.extend(projection_.project(p));
+  for (const Vec3& p : vertices) box.extend(projection_.project(p));
   box.min().array() -= margin_;
   box.max().array() += margin_;
   return box;
 }
 
-double Roberts::near_depth(const Body& body) const {
+double Roberts::near_depth(std::span<const Vec3> vertices) const {
   double d = INFINITY;
-  for (const Vec3& p : body.vertices()) d = std::min(d, projection_.depth(p));
+  for (const Vec3& p : vertices) d = std::min(d, projection_.depth(p));
   return d - depth_margin_;
 }
 
@@ -188,7 +188,10 @@ void Roberts::prepare_bodies() {
   // from the exact decomposition. Bodies in parallel, results in body order.
   struct BodyPieces {
     std::vector<Body> pieces;
-    std::vector<int> faces;  // faceted: the face of each piece
+    // Faceted: the triangles of the faces turned to the viewpoint, as face_triangles_of gives
+    // them (in order, collinear ones dropped), and the face of each.
+    std::vector<std::array<Vec3, 3>> triangles;
+    std::vector<int> faces;
     std::vector<std::vector<std::pair<int, int>>> planes;  // Decomposition::piece_planes
     std::vector<HlrFacet> facets;
     std::string error;
@@ -217,11 +220,13 @@ void Roberts::prepare_bodies() {
         // Closed, seen from outside: the faces turned to the viewpoint hide everything the body
         // hides (hedra/visibility/occlusion.h, Occluders::Faces).
         bd.faceted = true;
-        std::vector<int> front;
-        for (int f = 0; f < body.face_count(); ++f)
-          if (bd.facing[static_cast<size_t>(f)] == Facing::Front) front.push_back(f);
-        for (FaceTriangle& t : face_triangles_of(body, front)) {
-          per_body[b].pieces.push_back(std::move(t.triangle));
+        const auto& v = body.vertices();
+        for (const Triangle& t : body.triangles()) {
+          if (bd.facing[static_cast<size_t>(t.face)] != Facing::Front) continue;
+          const std::array<Vec3, 3> c{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
+                                      v[static_cast<size_t>(t.v[2])]};
+          if (collinear(c[0], c[1], c[2])) continue;  // none by contract: it would hide nothing
+          per_body[b].triangles.push_back(c);
           per_body[b].faces.push_back(t.face);
         }
         if (bd.any_smooth) {
@@ -253,13 +258,16 @@ void Roberts::prepare_bodies() {
   size_t count = 0;
   for (size_t b = 0; b < n; ++b) {
     if (!per_body[b].error.empty()) throw InvalidInput(name(static_cast<int>(b)) + ": " + per_body[b].error);
-    count += per_body[b].pieces.size();
+    count += per_body[b].pieces.size() + per_body[b].triangles.size();
   }
   pieces_.reserve(count);
   for (size_t b = 0; b < n; ++b) {
+    for (size_t k = 0; k < per_body[b].triangles.size(); ++k) {
+      pieces_.emplace_back(static_cast<int>(b), per_body[b].triangles[k]);
+      pieces_.back().face = per_body[b].faces[k];
+    }
     for (size_t k = 0; k < per_body[b].pieces.size(); ++k) {
       pieces_.emplace_back(static_cast<int>(b), std::move(per_body[b].pieces[k]));
-      if (k < per_body[b].faces.size()) pieces_.back().face = per_body[b].faces[k];
       const InputPlanes& model = data_[b].input_planes;
       if (k >= per_body[b].planes.size() || model.empty()) continue;
       // The exact piece's front faces: the viewpoint strictly on the outer side of the plane.
@@ -278,17 +286,35 @@ void Roberts::prepare_bodies() {
     for (size_t i = begin; i != end; ++i) {
       HlrPiece& p = pieces_[i];
       const HlrBody& bd = data_[static_cast<size_t>(p.body)];
-      if (bd.convex && p.face < 0) {
-        p.volume = occlusion_volume(p.piece, bd.facing, view_);
-      } else {
-        piece_facing.clear();
-        for (int f = 0; f < p.piece.face_count(); ++f) piece_facing.push_back(facing(p.piece, f, view_));
-        p.volume = occlusion_volume(p.piece, piece_facing, view_);
+      if (!p.piece) {
+        // A triangle: its plane through its support triple (its own order from its
+        // lexicographically smallest corner, as Body::two_sided_polygon takes it). Turned to
+        // the viewpoint (always, unless its face is planar only within a tolerance): the
+        // volume from its corners; else the two-sided triangle as a Body, as before.
+        const auto& c = p.triangle;
+        size_t f0 = 0;
+        for (size_t i = 1; i < 3; ++i)
+          if (std::lexicographical_compare(c[i].data(), c[i].data() + 3, c[f0].data(), c[f0].data() + 3)) f0 = i;
+        const ExactPlane plane = ExactPlane::through(c[f0], c[(f0 + 1) % 3], c[(f0 + 2) % 3]);
+        if (facing(plane, view_) == Facing::Front)
+          p.volume = triangle_occlusion_volume(c, plane, view_);
+        else
+          p.piece = Body::two_sided_polygon({c[0], c[1], c[2]});
       }
-      if (brute)
-        for (int f = 0; f < p.piece.face_count(); ++f) p.faces.push_back(exact_face_plane(p.piece, f));
-      p.box = picture_box(p.piece);
-      p.near = near_depth(p.piece);
+      if (p.piece) {
+        const Body& piece = *p.piece;
+        if (bd.convex && p.face < 0) {
+          p.volume = occlusion_volume(piece, bd.facing, view_);
+        } else {
+          piece_facing.clear();
+          for (int f = 0; f < piece.face_count(); ++f) piece_facing.push_back(facing(piece, f, view_));
+          p.volume = occlusion_volume(piece, piece_facing, view_);
+        }
+        if (brute)
+          for (int f = 0; f < piece.face_count(); ++f) p.faces.push_back(exact_face_plane(piece, f));
+      }
+      p.box = picture_box(p.vertices());
+      p.near = near_depth(p.vertices());
       p.occluder.body = p.body;
       p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
       p.occluder.faces = &p.faces;
@@ -328,8 +354,8 @@ std::vector<HlrFacet> Roberts::facets_of(int body, const std::vector<Body>& piec
             if (f != fp) facet.occluder.bounds.push_back(exact_face_plane(p, f));
           for (int f = 0; f < q.face_count(); ++f)
             if (f != fq) facet.occluder.bounds.push_back(exact_face_plane(q, f));
-          facet.box = picture_box(p).merged(picture_box(q));
-          facet.near = std::min(near_depth(p), near_depth(q));
+          facet.box = picture_box(p.vertices()).merged(picture_box(q.vertices()));
+          facet.near = std::min(near_depth(p.vertices()), near_depth(q.vertices()));
           out.push_back(std::move(facet));
         }
       }
@@ -359,20 +385,20 @@ bool Roberts::rounded_incident(const HlrPiece& p, int f1, int f2, const Vec3& s1
   const Body& body = bodies_[static_cast<size_t>(p.body)];
   const double tol = 8 * kRoundingPlanarity * body.scale();
   for (int g : p.volume.front_faces) {
-    const Vec3 n = p.piece.plane(g).normal();
+    const Vec3 n = p.piece->plane(g).normal();
     for (int f : {f1, f2}) {
       const Plane& plane = body.plane(f);
       if (plane.normal().dot(n) <= 0.5) continue;
       bool on = true;
-      for (int v : p.piece.faces()[static_cast<size_t>(g)].loops[0])
-        on = on && std::abs(plane.value(p.piece.vertices()[static_cast<size_t>(v)])) <= tol;
+      for (int v : p.piece->faces()[static_cast<size_t>(g)].loops[0])
+        on = on && std::abs(plane.value(p.piece->vertices()[static_cast<size_t>(v)])) <= tol;
       if (on) return true;
     }
   }
   const Vec3 d = s2 - s1;
   const double len = d.norm();
   if (len == 0) return false;
-  const auto& v = p.piece.vertices();
+  const auto v = p.vertices();
   for (const auto& [a, b] : p.volume.silhouette)
     if ((v[static_cast<size_t>(a)] - s1).cross(d).norm() <= tol * len &&
         (v[static_cast<size_t>(b)] - s1).cross(d).norm() <= tol * len)
@@ -601,8 +627,8 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
 
 bool Roberts::outline_on_piece(const HlrPiece& p, const Vec3& n, const Vec3& a, const Vec3& b) const {
   const double tol = 64 * kRoundingPlanarity * bodies_[static_cast<size_t>(p.body)].scale();
-  for (int f = 0; f < p.piece.face_count(); ++f) {
-    const Plane& plane = p.piece.plane(f);
+  for (int f = 0; f < p.piece->face_count(); ++f) {
+    const Plane& plane = p.piece->plane(f);
     // Piece planes have inner normals; n is outward.
     if (-plane.normal().dot(n) <= 0.5) continue;
     if (std::abs(plane.value(a)) <= tol && std::abs(plane.value(b)) <= tol) return true;

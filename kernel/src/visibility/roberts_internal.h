@@ -11,6 +11,7 @@
 #include <span>
 #include <string>
 #include <utility>
+#include <array>
 #include <vector>
 
 #include "hedra/clip/cyrus_beck.h"
@@ -99,8 +100,16 @@ class PictureGrid {
 
 struct HlrPiece {
   HlrPiece(int b, Body p) : body(b), piece(std::move(p)) {}
+  HlrPiece(int b, const std::array<Vec3, 3>& t) : body(b), triangle(t) {}
   int body = -1;
-  Body piece;
+  // A convex piece; empty for a triangle of a body occluding by its faces, which keeps only
+  // its corners (a million-face mesh: half a million triangles turned to the eye).
+  std::optional<Body> piece;
+  std::array<Vec3, 3> triangle{};
+  std::span<const Vec3> vertices() const {
+    if (piece) return piece->vertices();
+    return triangle;
+  }
   OcclusionVolume volume;
   std::vector<ExactPlane> faces;  // for the brute-force path
   // Pieces of a non-convex body: the canonical planes (Decomposition::piece_planes) of the
@@ -151,9 +160,9 @@ class Roberts {
 
   void check_view();
 
-  Eigen::AlignedBox2d picture_box(const Body& body) const;
+  Eigen::AlignedBox2d picture_box(std::span<const Vec3> vertices) const;
 
-  double near_depth(const Body& body) const;
+  double near_depth(std::span<const Vec3> vertices) const;
 
   void prepare_bodies();
 
