@@ -17,6 +17,8 @@
 #include "hedra/mesh/open_surface.h"
 #include "hedra/mesh/self_intersection.h"
 #include "hedra/core/error.h"
+#include "hedra/core/face_geometry.h"
+#include "hedra/core/triangulate.h"
 #include "hedra/scene/lod.h"
 #include "hedra/core/primitives.h"
 
@@ -438,8 +440,11 @@ class SceneReader {
     return out;
   }
 
-  // The polygons of a "polyhedron" that is an open surface, else none (a face with holes, or
-  // of fewer than 3 vertices, is not one of a surface).
+  // The polygons of a "polyhedron" that is an open surface, else none (a face of fewer than 3
+  // vertices is not one of a surface). A face with holes enters as its triangles
+  // (triangulate_polygon in its Newell plane): their shared edges pair up inside the face, its
+  // loops are the surface's edges there, and two_sided_faces merges exactly coplanar triangles
+  // back into convex faces.
   std::optional<PolygonSoup> open_polyhedron(const JsonValue& s) const {
     const JsonValue* vs = s.find("vertices");
     const JsonValue* fs = s.find("faces");
@@ -448,8 +453,22 @@ class SceneReader {
     for (const JsonValue& p : vs->items) soup.vertices.push_back(vec3(p, "a vertex"));
     for (const JsonValue& f : fs->items) {
       const Face face = read_face(f);
-      if (face.loops.size() != 1 || face.loops[0].size() < 3) return std::nullopt;
-      soup.polygons.push_back(face.loops[0]);
+      for (const auto& loop : face.loops) {
+        if (loop.size() < 3) return std::nullopt;
+        for (int v : loop)
+          if (v < 0 || static_cast<size_t>(v) >= soup.vertices.size()) return std::nullopt;
+      }
+      if (face.loops.size() == 1) {
+        soup.polygons.push_back(face.loops[0]);
+        continue;
+      }
+      try {
+        const Vec3 normal = newell_normal(soup.vertices, face.loops[0]);
+        for (const auto& t : triangulate_polygon(soup.vertices, face.loops, normal))
+          soup.polygons.push_back({t[0], t[1], t[2]});
+      } catch (const InvalidInput&) {
+        return std::nullopt;  // the solid's path names the face and why
+      }
     }
     if (!is_open_surface(soup)) return std::nullopt;
     return soup;

@@ -255,6 +255,7 @@ void Roberts::prepare_bodies() {
       per_body[b].facets = facets_of(static_cast<int>(b), per_body[b].pieces);
     }
   });
+  flat_joins();
   size_t count = 0;
   for (size_t b = 0; b < n; ++b) {
     if (!per_body[b].error.empty()) throw InvalidInput(name(static_cast<int>(b)) + ": " + per_body[b].error);
@@ -321,6 +322,61 @@ void Roberts::prepare_bodies() {
     }
   });
   result_.stats.pieces = static_cast<int>(pieces_.size());
+}
+
+void Roberts::flat_joins() {
+  // Edges of two-sided faces (the faces of open surfaces), with their end points in
+  // lexicographic order as the key: an edge that two such faces share in opposite directions,
+  // the faces exactly coplanar, lies inside one flat region (a non-convex or holed face of the
+  // surface, cut into convex two-sided faces): smooth, as an edge between coplanar faces of a
+  // solid is no edge of the drawing. Every other edge of a two-sided face stays sharp.
+  struct Key {
+    std::array<double, 6> ends;
+    int body, edge;
+    bool forward;  // v0 → v1 runs from the smaller end point to the larger
+  };
+  std::vector<Key> keys;
+  for (size_t b = 0; b < bodies_.size(); ++b) {
+    const Body& body = bodies_[b];
+    if (!body.two_sided()) continue;
+    const auto& v = body.vertices();
+    for (int e = 0; e < body.edge_count(); ++e) {
+      const Edge& edge = body.edges()[static_cast<size_t>(e)];
+      const Vec3 &p = v[static_cast<size_t>(edge.v0)], &q = v[static_cast<size_t>(edge.v1)];
+      const bool forward = std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+      const Vec3& lo = forward ? p : q;
+      const Vec3& hi = forward ? q : p;
+      keys.push_back({{lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()}, static_cast<int>(b), e, forward});
+    }
+  }
+  if (keys.size() < 2) return;
+  std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
+    return x.ends < y.ends || (x.ends == y.ends && std::tie(x.body, x.edge) < std::tie(y.body, y.edge));
+  });
+  const auto coplanar = [&](int a, int b) {
+    const Body &A = bodies_[static_cast<size_t>(a)], &B = bodies_[static_cast<size_t>(b)];
+    const auto &sa = A.support(0), &sb = B.support(0);
+    const auto &va = A.vertices(), &vb = B.vertices();
+    for (int k : sb)
+      if (orient3d(va[static_cast<size_t>(sa[0])], va[static_cast<size_t>(sa[1])], va[static_cast<size_t>(sa[2])],
+                   vb[static_cast<size_t>(k)]) != Sign::Zero)
+        return false;
+    return true;
+  };
+  const auto mark = [&](const Key& k) {
+    HlrBody& bd = data_[static_cast<size_t>(k.body)];
+    if (bd.classes.empty()) bd.classes.assign(static_cast<size_t>(bodies_[static_cast<size_t>(k.body)].edge_count()), EdgeClass::Sharp);
+    bd.classes[static_cast<size_t>(k.edge)] = EdgeClass::Smooth;
+  };
+  for (size_t i = 0, j; i < keys.size(); i = j) {
+    for (j = i + 1; j < keys.size() && keys[j].ends == keys[i].ends; ++j) {
+    }
+    // Exactly two faces on the edge, in opposite directions, in one plane.
+    if (j - i != 2 || keys[i].forward == keys[i + 1].forward || keys[i].body == keys[i + 1].body) continue;
+    if (!coplanar(keys[i].body, keys[i + 1].body)) continue;
+    mark(keys[i]);
+    mark(keys[i + 1]);
+  }
 }
 
 std::vector<HlrFacet> Roberts::facets_of(int body, const std::vector<Body>& pieces) const {

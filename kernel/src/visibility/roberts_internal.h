@@ -160,6 +160,8 @@ class Roberts {
 
   void check_view();
 
+  // Marks the edges that two-sided faces share inside one flat region as smooth (classes).
+  void flat_joins();
   Eigen::AlignedBox2d picture_box(std::span<const Vec3> vertices) const;
 
   double near_depth(std::span<const Vec3> vertices) const;
