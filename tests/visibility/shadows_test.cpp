@@ -566,7 +566,12 @@ TEST(Shadows, AgreeWithRayCastingOnRandomScenes) {
 TEST(Shadows, GroundAreaMatchesTheExactUnionOfShadowHulls) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
-  for (int trial = 0; trial < 6; ++trial) {
+#ifdef HEDRA_SANITIZED
+  const int trials = 2;  // CGAL's exact unions under ASan + UBSan: 28 s for all six
+#else
+  const int trials = 6;
+#endif
+  for (int trial = 0; trial < trials; ++trial) {
     Scene s = ground_scene();
     std::vector<Body> bodies;
     for (int k = 0; k < 25; ++k) {  // overlapping and rotated boxes, all on the ground
@@ -789,7 +794,12 @@ TEST(PolygonUnion, RandomConvexPolygonsAgreeWithCgal) {
 TEST(PolygonUnion, LongThinCrossingPiecesAgreeWithCgal) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
-  for (int trial = 0; trial < 6; ++trial) {
+#ifdef HEDRA_SANITIZED
+  const int trials = 2;  // CGAL's exact unions under ASan + UBSan: 28 s for all six
+#else
+  const int trials = 6;
+#endif
+  for (int trial = 0; trial < trials; ++trial) {
     std::vector<Ring2> pieces;
     for (int k = 0; k < 40 + 20 * trial; ++k) {
       // A chord of a circle of radius 20 (chords cross all over the grid), 0.02 to 0.4 wide.
