@@ -6,6 +6,7 @@
 #include <map>
 #include <numeric>
 
+#include "hedra/core/parallel.h"
 #include "visibility/roberts_internal.h"
 
 namespace hedra::internal {
@@ -106,6 +107,11 @@ void Roberts::merge_coincident() {
   }
 }
 
+const ExactPlane& Roberts::built_face_plane(int b, int f) const {
+  const HlrBody& bd = data_[static_cast<size_t>(b)];
+  return bd.planes[static_cast<size_t>(bd.plane_slot[static_cast<size_t>(f)])];
+}
+
 const ExactPlane& Roberts::face_plane(int b, int f) {
   HlrBody& bd = data_[static_cast<size_t>(b)];
   if (bd.plane_slot.empty()) bd.plane_slot.assign(static_cast<size_t>(bodies_[static_cast<size_t>(b)].face_count()), -1);
@@ -118,11 +124,9 @@ const ExactPlane& Roberts::face_plane(int b, int f) {
 }
 
 void Roberts::junctions() {
-  if (touching_pairs().empty()) return;
+  const std::vector<std::pair<int, int>>& pairs = touching_pairs();
+  if (pairs.empty()) return;
   const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
-  Scratch scratch;
-  std::vector<int> ids;
-  detail::ExactPlaneCache cache;
   // Faces facing strictly away of each convex body: junctions on them are hidden by the body.
   std::vector<std::vector<bool>> back(bodies_.size());
   for (size_t b = 0; b < bodies_.size(); ++b) {
@@ -131,36 +135,53 @@ void Roberts::junctions() {
     back[b].resize(data_[b].facing.size());
     for (size_t f = 0; f < back[b].size(); ++f) back[b][f] = data_[b].facing[f] == Facing::Back;
   }
-  for (const auto& pair : touching_pairs()) {
-    // Plain variables, not a structured binding: the lambdas below capture them (clang 14,
-    // the fuzz and sanitizer compiler, cannot capture bindings).
-    const int i = pair.first, j = pair.second;
-    meter_.add();  // HlrOptions::progress
-    // A junction segment lies on face fa of body i and face fb of body j.
-    const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
-                                             detail::Candidates& out) {
-      candidates(a, b, scratch, ids);
-      // Nearest first: a piece that hides the whole segment ends its test.
-      near_first(ids, scratch);
-      fill_candidates(ids, [&](const HlrPiece& o) {
-        // A convex body's own volume decides exactly (the junction lies exactly on its
-        // face's support plane); a piece of a non-convex one only if not incident.
-        // A triangle of a faceted body: any but those of the junction's own face.
-        if (o.face >= 0 && o.body == i) return o.face != fa;
-        if (o.face >= 0 && o.body == j) return o.face != fb;
-        if (o.body == i) return data_[static_cast<size_t>(i)].convex || !face_incident(o, fa, a, b);
-        if (o.body == j) return data_[static_cast<size_t>(j)].convex || !face_incident(o, fb, a, b);
-        return true;
-      }, out);
-    };
-    int found = 0;
-    const std::vector<detail::JunctionPart> parts = detail::junction_lines(
-        bodies_[static_cast<size_t>(i)], bodies_[static_cast<size_t>(j)],
-        [&](int f) -> const ExactPlane& { return face_plane(i, f); },
-        [&](int f) -> const ExactPlane& { return face_plane(j, f); }, view_, query, brute, found, back[static_cast<size_t>(i)],
-        back[static_cast<size_t>(j)], &cache);
-    result_.stats.junction_segments += found;
-    for (const auto& p : parts) add_segment(result_.visible, p.a, p.b, LineKind::Junction, i, j, -1);
+  // The face planes of every body in a pair, built here: face_plane builds them on demand,
+  // and the pairs below run in parallel (each pair's segments in its own list, joined in pair
+  // order: the result does not depend on the threads).
+  std::vector<char> paired(bodies_.size(), 0);
+  for (const auto& [i, j] : pairs) paired[static_cast<size_t>(i)] = paired[static_cast<size_t>(j)] = 1;
+  for (size_t b = 0; b < bodies_.size(); ++b)
+    if (paired[b])
+      for (int f = 0; f < bodies_[b].face_count(); ++f) face_plane(static_cast<int>(b), f);
+  std::vector<std::vector<HlrSegment>> out(pairs.size());
+  std::vector<int> found(pairs.size(), 0);
+  parallel_blocks(pairs.size(), 0, 4, [&](size_t begin, size_t end) {
+    Scratch scratch;
+    std::vector<int> ids;
+    detail::ExactPlaneCache cache;
+    for (size_t k = begin; k != end; ++k) {
+      // Plain variables, not a structured binding: the lambdas below capture them (clang 14,
+      // the fuzz and sanitizer compiler, cannot capture bindings).
+      const int i = pairs[k].first, j = pairs[k].second;
+      meter_.add();  // HlrOptions::progress
+      // A junction segment lies on face fa of body i and face fb of body j.
+      const detail::CandidateQuery query = [&](const Vec3& a, const Vec3& b, int fa, int fb,
+                                               detail::Candidates& candidates_out) {
+        candidates(a, b, scratch, ids);
+        // Nearest first: a piece that hides the whole segment ends its test.
+        near_first(ids, scratch);
+        fill_candidates(ids, [&](const HlrPiece& o) {
+          // A convex body's own volume decides exactly (the junction lies exactly on its
+          // face's support plane); a piece of a non-convex one only if not incident.
+          // A triangle of a faceted body: any but those of the junction's own face.
+          if (o.face >= 0 && o.body == i) return o.face != fa;
+          if (o.face >= 0 && o.body == j) return o.face != fb;
+          if (o.body == i) return data_[static_cast<size_t>(i)].convex || !face_incident(o, fa, a, b);
+          if (o.body == j) return data_[static_cast<size_t>(j)].convex || !face_incident(o, fb, a, b);
+          return true;
+        }, candidates_out);
+      };
+      const std::vector<detail::JunctionPart> parts = detail::junction_lines(
+          bodies_[static_cast<size_t>(i)], bodies_[static_cast<size_t>(j)],
+          [&](int f) -> const ExactPlane& { return built_face_plane(i, f); },
+          [&](int f) -> const ExactPlane& { return built_face_plane(j, f); }, view_, query, brute, found[k],
+          back[static_cast<size_t>(i)], back[static_cast<size_t>(j)], &cache);
+      for (const auto& p : parts) add_segment(out[k], p.a, p.b, LineKind::Junction, i, j, -1);
+    }
+  });
+  for (size_t k = 0; k < pairs.size(); ++k) {
+    result_.stats.junction_segments += found[k];
+    result_.visible.insert(result_.visible.end(), out[k].begin(), out[k].end());
   }
 }
 

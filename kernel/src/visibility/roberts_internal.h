@@ -301,6 +301,8 @@ class Roberts {
   void merge_coincident();
 
   // The exact plane of face f of body b (junctions), built on first use. Not thread-safe.
+  // The plane face_plane built already (read-only: safe on any thread).
+  const ExactPlane& built_face_plane(int b, int f) const;
   const ExactPlane& face_plane(int b, int f);
 
   void junctions();
