@@ -165,14 +165,14 @@ ShadowFace make_face(const Body& body, int f) {
   fd.area_factor = 1 / std::abs(fd.normal[fd.axis]);
   const Face& face = body.faces()[static_cast<size_t>(f)];
   fd.anchor = body.vertices()[static_cast<size_t>(face.loops[0][0])];
-  fd.box = Eigen::AlignedBox3d();
+  Eigen::AlignedBox3d box;
   fd.corners.reserve(face.loops[0].size());
   for (int id : face.loops[0]) {
     fd.corners.push_back(body.vertices()[static_cast<size_t>(id)]);
-    fd.box.extend(fd.corners.back());
+    box.extend(fd.corners.back());
   }
-  fd.centre = fd.box.center();
-  fd.radius = 0.5 * fd.box.diagonal().norm();
+  fd.centre = box.center();
+  fd.radius = 0.5 * box.diagonal().norm();
   convex_parts(body, f, fd);
   return fd;
 }

@@ -215,10 +215,10 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
   }
   m.pieces.reserve(total_pieces);
   const auto place = [](ShadowPiece& pd) {
-    pd.box.setEmpty();
-    for (const Vec3& p : pd.vertices()) pd.box.extend(p);
-    pd.centre = pd.box.center();
-    pd.radius = 0.5 * pd.box.diagonal().norm();
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : pd.vertices()) box.extend(p);
+    pd.centre = box.center();
+    pd.radius = 0.5 * box.diagonal().norm();
   };
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     ShadowBody& body_data = m.bodies[b];

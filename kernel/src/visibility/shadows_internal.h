@@ -41,7 +41,6 @@ struct ShadowFace {
   // and the face has no holes (`convex`), else `parts`.
   bool convex = true;
   std::vector<Polygon3> parts;
-  Eigen::AlignedBox3d box;
   Vec3 centre = Vec3::Zero();
   double radius = 0;
   ExactPlane plane;           // through the face's support triple: Positive inner (face_side)
@@ -119,7 +118,6 @@ struct ShadowPiece {
   ExactPlane triangle_plane;
   // The exact piece's faces (Decomposition::piece_planes); empty: none given.
   std::vector<std::pair<int, int>> exact_planes;
-  Eigen::AlignedBox3d box;
   Vec3 centre = Vec3::Zero();
   double radius = 0;
   // A triangle of a face of a body occluding by its faces (Occluders::Faces): that face. It
