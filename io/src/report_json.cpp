@@ -4,6 +4,9 @@
 
 #include "hedra/scene/sun.h"
 
+#include "hedra/core/error.h"
+#include "hedra/core/parallel.h"
+
 namespace hedra::io {
 namespace {
 
@@ -132,32 +135,57 @@ std::string hidden_lines_json(const HlrResult& result, double ms) {
   return j.dump(-1, ' ', false, json::error_handler_t::replace);
 }
 
+// A string that stands for light l's face array until the arrays are spliced in, found as the
+// value of a "faces" key (which only this function writes; quotes inside strings are escaped,
+// so no name can imitate the key and its value).
+std::string face_marker(size_t l) { return "hedra-faces-of-light-" + std::to_string(l) + "-a93f0c"; }
+
 std::string shadows_json(const Scene& scene, const std::string& scene_name,
                          const ShadowResult& result, bool visible_parts, double ms,
                          const SunStudyOptions* study_options, const SunStudy* study) {
   json j;
   j["ms"] = ms;
   j["scene"] = scene_name;
+  // Each face's object is built and dumped on its own, in parallel (a million faces make a
+  // document of hundreds of MB: one DOM of it took longer than the shadows), and spliced into
+  // the document where a marker stands for each light's face array. Objects dump with sorted
+  // keys and no spaces, so the bytes are those of dumping the whole document at once.
   json lights = json::array();
-  for (const LightShadows& ls : result.lights) {
-    json faces = json::array();
-    for (const FaceShadow& fs : ls.faces) {
-      json f{{"body", scene.bodies()[static_cast<size_t>(fs.body)].name},
-             {"face", fs.face},
-             {"area", fs.area},
-             {"self_shadowed", fs.self_shadowed()},
-             {"grazing", fs.grazing()},
-             {"visible", fs.visible},
-             {"shadow_area", fs.shadow_area},
-             {"polygons", polygons_json(fs.polygons)},
-             {"holes", hole_indices(fs.polygons)}};
-      if (visible_parts) {
-        f["visible_shadow_area"] = fs.visible_shadow_area;
-        f["visible_polygons"] = polygons_json(fs.visible_polygons);
+  std::vector<std::string> face_arrays;
+  for (size_t l = 0; l < result.lights.size(); ++l) {
+    const LightShadows& ls = result.lights[l];
+    std::vector<std::string> dumped(ls.faces.size());
+    parallel_blocks(ls.faces.size(), 0, 1024, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i != end; ++i) {
+        const FaceShadow& fs = ls.faces[i];
+        json f{{"body", scene.bodies()[static_cast<size_t>(fs.body)].name},
+               {"face", fs.face},
+               {"area", fs.area},
+               {"self_shadowed", fs.self_shadowed()},
+               {"grazing", fs.grazing()},
+               {"visible", fs.visible},
+               {"shadow_area", fs.shadow_area},
+               {"polygons", polygons_json(fs.polygons)},
+               {"holes", hole_indices(fs.polygons)}};
+        if (visible_parts) {
+          f["visible_shadow_area"] = fs.visible_shadow_area;
+          f["visible_polygons"] = polygons_json(fs.visible_polygons);
+        }
+        dumped[i] = f.dump(-1, ' ', false, json::error_handler_t::replace);
       }
-      faces.push_back(std::move(f));
+    });
+    size_t size = 2;
+    for (const std::string& d : dumped) size += d.size() + 1;
+    std::string array;
+    array.reserve(size);
+    array += '[';
+    for (size_t i = 0; i < dumped.size(); ++i) {
+      if (i) array += ',';
+      array += dumped[i];
     }
-    lights.push_back({{"light", light_json(ls.light)}, {"faces", std::move(faces)}});
+    array += ']';
+    face_arrays.push_back(std::move(array));
+    lights.push_back({{"light", light_json(ls.light)}, {"faces", face_marker(l)}});
   }
   j["lights"] = std::move(lights);
   json counts = json::array();
@@ -173,7 +201,25 @@ std::string shadows_json(const Scene& scene, const std::string& scene_name,
   j["counts"] = std::move(counts);
   if (study != nullptr && study_options != nullptr)
     j["sun_study"] = sun_study_object(scene, *study_options, *study);
-  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+  std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
+  // The markers, in light order (the document lists the lights in order), become the arrays.
+  std::string out;
+  size_t total = text.size();
+  for (const std::string& a : face_arrays) total += a.size();
+  out.reserve(total);
+  size_t from = 0;
+  for (size_t l = 0; l < face_arrays.size(); ++l) {
+    // Only a "faces" key can hold the marker (a name equal to it is a "body" value).
+    const std::string key = "\"faces\":", quoted = key + "\"" + face_marker(l) + "\"";
+    const size_t at = text.find(quoted, from);
+    HEDRA_ASSERT(at != std::string::npos, "shadows_json: face marker not found");
+    out.append(text, from, at - from);
+    out += key;
+    out += face_arrays[l];
+    from = at + quoted.size();
+  }
+  out.append(text, from, std::string::npos);
+  return out;
 }
 
 std::string sun_study_json(const Scene& scene, const SunStudyOptions& options,
