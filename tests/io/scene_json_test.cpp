@@ -281,3 +281,35 @@ TEST(SceneJson, OpenSurfacesAreWrittenBackAsOpenSurfaces) {
 
 }  // namespace
 }  // namespace hedra
+
+#include <nlohmann/json.hpp>
+
+#include "hedra/io/report_json.h"
+#include "hedra/visibility/shadows.h"
+
+namespace hedra {
+namespace {
+
+// shadows_json builds each face's object apart and splices the face arrays in at a marker:
+// a body named like the marker, two lights, and the document must still be the one DOM dump.
+TEST(ReportJson, ShadowFacesSplicedIntoTheDocumentAsOneDump) {
+  const Scene scene = io::parse_scene("s.json", R"({"version": 1, "bodies": [
+    {"name": "ground", "box": {"min": [-5, -5, -1], "max": [5, 5, 0]}},
+    {"name": "hedra-faces-of-light-0-a93f0c", "box": {"min": [0, 0, 0], "max": [1, 1, 1]}}],
+    "lights": [{"type": "point", "position": [3, 2, 6]}, {"type": "directional", "direction": [1, 0.5, -1]}]})");
+  const ShadowResult result = compute_shadows(scene);
+  const std::string text = io::shadows_json(scene, "s.json", result, false, 1.5);
+  const nlohmann::json doc = nlohmann::json::parse(text);
+  ASSERT_EQ(doc["lights"].size(), 2u);
+  for (const auto& light : doc["lights"]) EXPECT_EQ(light["faces"].size(), 12u);
+  EXPECT_EQ(doc["lights"][1]["faces"][11]["body"], "hedra-faces-of-light-0-a93f0c");
+  // Re-dumped from the parsed DOM, the same bytes (sorted keys, no spaces).
+  EXPECT_EQ(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), text);
+  double ground = 0;
+  for (const auto& f : doc["lights"][0]["faces"])
+    if (f["body"] == "ground" && f["face"] == 5 && !f["self_shadowed"].get<bool>()) ground += f["shadow_area"].get<double>();
+  EXPECT_GT(ground, 1.0);
+}
+
+}  // namespace
+}  // namespace hedra
