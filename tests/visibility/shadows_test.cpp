@@ -566,12 +566,7 @@ TEST(Shadows, AgreeWithRayCastingOnRandomScenes) {
 TEST(Shadows, GroundAreaMatchesTheExactUnionOfShadowHulls) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(0, 1);
-#ifdef HEDRA_SANITIZED
-  const int trials = 2;  // CGAL's exact unions under ASan + UBSan: 28 s for all six
-#else
-  const int trials = 6;
-#endif
-  for (int trial = 0; trial < trials; ++trial) {
+  for (int trial = 0; trial < 6; ++trial) {
     Scene s = ground_scene();
     std::vector<Body> bodies;
     for (int k = 0; k < 25; ++k) {  // overlapping and rotated boxes, all on the ground
