@@ -117,6 +117,7 @@ TEST(Occlusion, TriangleVolumeEqualsTheTwoSidedBodys) {
     const Viewpoint view = trial % 2 ? Viewpoint::at(Vec3(5 * u(rng), 5 * u(rng), 5 * u(rng)))
                                      : Viewpoint::towards(Vec3(u(rng), u(rng), u(rng)));
     const ExactPlane plane = exact_face_plane(body, 0);
+    EXPECT_EQ(triangle_plane(t).points(), plane.points()) << trial;
     if (facing(plane, view) != Facing::Front) continue;
     const OcclusionVolume a = occlusion_volume(body, view), b = triangle_occlusion_volume(t, plane, view);
     ASSERT_TRUE(a.clipper && b.clipper);

@@ -188,10 +188,7 @@ void Roberts::prepare_bodies() {
   // from the exact decomposition. Bodies in parallel, results in body order.
   struct BodyPieces {
     std::vector<Body> pieces;
-    // Faceted: the triangles of the faces turned to the viewpoint, as face_triangles_of gives
-    // them (in order, collinear ones dropped), and the face of each.
-    std::vector<std::array<Vec3, 3>> triangles;
-    std::vector<int> faces;
+    std::vector<FaceTriangle> triangles;  // faceted: the triangles of the front faces
     std::vector<std::vector<std::pair<int, int>>> planes;  // Decomposition::piece_planes
     std::vector<HlrFacet> facets;
     std::string error;
@@ -220,15 +217,9 @@ void Roberts::prepare_bodies() {
         // Closed, seen from outside: the faces turned to the viewpoint hide everything the body
         // hides (hedra/visibility/occlusion.h, Occluders::Faces).
         bd.faceted = true;
-        const auto& v = body.vertices();
-        for (const Triangle& t : body.triangles()) {
-          if (bd.facing[static_cast<size_t>(t.face)] != Facing::Front) continue;
-          const std::array<Vec3, 3> c{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
-                                      v[static_cast<size_t>(t.v[2])]};
-          if (collinear(c[0], c[1], c[2])) continue;  // none by contract: it would hide nothing
-          per_body[b].triangles.push_back(c);
-          per_body[b].faces.push_back(t.face);
-        }
+        std::vector<char> front(bd.facing.size());
+        for (size_t f = 0; f < front.size(); ++f) front[f] = bd.facing[f] == Facing::Front;
+        per_body[b].triangles = face_triangles_of(body, front);
         if (bd.any_smooth) {
           bd.vertex_faces.assign(static_cast<size_t>(body.vertex_count()), {});
           for (int f = 0; f < body.face_count(); ++f)
@@ -263,9 +254,9 @@ void Roberts::prepare_bodies() {
   }
   pieces_.reserve(count);
   for (size_t b = 0; b < n; ++b) {
-    for (size_t k = 0; k < per_body[b].triangles.size(); ++k) {
-      pieces_.emplace_back(static_cast<int>(b), per_body[b].triangles[k]);
-      pieces_.back().face = per_body[b].faces[k];
+    for (const FaceTriangle& t : per_body[b].triangles) {
+      pieces_.emplace_back(static_cast<int>(b), t.corners);
+      pieces_.back().face = t.face;
     }
     for (size_t k = 0; k < per_body[b].pieces.size(); ++k) {
       pieces_.emplace_back(static_cast<int>(b), std::move(per_body[b].pieces[k]));
@@ -288,15 +279,10 @@ void Roberts::prepare_bodies() {
       HlrPiece& p = pieces_[i];
       const HlrBody& bd = data_[static_cast<size_t>(p.body)];
       if (!p.piece) {
-        // A triangle: its plane through its support triple (its own order from its
-        // lexicographically smallest corner, as Body::two_sided_polygon takes it). Turned to
-        // the viewpoint (always, unless its face is planar only within a tolerance): the
-        // volume from its corners; else the two-sided triangle as a Body, as before.
+        // A triangle turned to the viewpoint (always, unless its face is planar only within a
+        // tolerance): the volume from its corners; else the two-sided triangle as a Body.
         const auto& c = p.triangle;
-        size_t f0 = 0;
-        for (size_t i = 1; i < 3; ++i)
-          if (std::lexicographical_compare(c[i].data(), c[i].data() + 3, c[f0].data(), c[f0].data() + 3)) f0 = i;
-        const ExactPlane plane = ExactPlane::through(c[f0], c[(f0 + 1) % 3], c[(f0 + 2) % 3]);
+        const ExactPlane plane = triangle_plane(c);
         if (facing(plane, view_) == Facing::Front)
           p.volume = triangle_occlusion_volume(c, plane, view_);
         else

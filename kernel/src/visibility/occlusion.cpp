@@ -1,5 +1,6 @@
 #include "hedra/visibility/occlusion.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "hedra/core/error.h"
@@ -196,32 +197,24 @@ bool hides(const OcclusionVolume& volume, const Vec3& p) {
 
 namespace hedra {
 
-std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<int>& faces) {
-  std::vector<char> wanted(static_cast<size_t>(body.face_count()), 0);
-  for (int f : faces) wanted[static_cast<size_t>(f)] = 1;
-  const auto& triangles = body.triangles();
-  std::vector<const Triangle*> chosen;
-  chosen.reserve(faces.size());
-  for (const Triangle& t : triangles)
-    if (wanted[static_cast<size_t>(t.face)]) chosen.push_back(&t);
+std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<char>& wanted) {
   const auto& v = body.vertices();
-  // In parallel, in triangle order (a triangle the face's triangulation made with exactly
-  // collinear corners, which it has none of by contract, would hide nothing: dropped).
-  std::vector<std::optional<FaceTriangle>> built(chosen.size());
-  parallel_blocks(chosen.size(), 0, 1024, [&](size_t begin, size_t end) {
-    for (size_t i = begin; i != end; ++i) {
-      const Triangle& t = *chosen[i];
-      std::vector<Vec3> corners{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
-                                v[static_cast<size_t>(t.v[2])]};
-      if (collinear(corners[0], corners[1], corners[2])) continue;
-      built[i] = FaceTriangle{t.face, Body::two_sided_polygon(std::move(corners))};
-    }
-  });
   std::vector<FaceTriangle> out;
-  out.reserve(built.size());
-  for (auto& t : built)
-    if (t) out.push_back(std::move(*t));
+  out.reserve(body.triangles().size());
+  for (const Triangle& t : body.triangles()) {
+    if (!wanted.empty() && !wanted[static_cast<size_t>(t.face)]) continue;
+    const std::array<Vec3, 3> c{v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])],
+                                v[static_cast<size_t>(t.v[2])]};
+    if (!collinear(c[0], c[1], c[2])) out.push_back({t.face, c});
+  }
   return out;
+}
+
+ExactPlane triangle_plane(const std::array<Vec3, 3>& t) {
+  size_t first = 0;
+  for (size_t i = 1; i < 3; ++i)
+    if (std::lexicographical_compare(t[i].data(), t[i].data() + 3, t[first].data(), t[first].data() + 3)) first = i;
+  return ExactPlane::through(t[first], t[(first + 1) % 3], t[(first + 2) % 3]);
 }
 
 }  // namespace hedra

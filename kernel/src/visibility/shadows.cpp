@@ -181,7 +181,7 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     } else if (occludes_by_faces(bd.body, m.occluders)) {
       // Closed: the faces turned to a viewpoint hide everything the body hides from it
       // (hedra/visibility/occlusion.h, Occluders::Faces).
-      // Its pieces are its faces' triangles, made below (faceted_pieces).
+      // Its pieces are its faces' triangles (face_triangles_of), made below.
       bd.faceted = true;
     } else {
       try {
@@ -199,19 +199,12 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       }
     }
   });
-  // The triangles of the bodies occluding by their faces, as face_triangles_of gives them (in
-  // order, collinear ones dropped: none by contract), kept as corners and one plane each.
-  std::vector<std::vector<const Triangle*>> faceted(m.bodies.size());
+  // The triangles of the bodies occluding by their faces, kept as corners and one plane each.
+  std::vector<std::vector<FaceTriangle>> faceted(m.bodies.size());
   size_t total_pieces = 0;
   for (size_t b = 0; b < m.bodies.size(); ++b) {
-    total_pieces += pieces[b].size();
-    if (!m.bodies[b].faceted) continue;
-    const Body& body = m.bodies[b].body;
-    const auto& v = body.vertices();
-    for (const Triangle& t : body.triangles())
-      if (!collinear(v[static_cast<size_t>(t.v[0])], v[static_cast<size_t>(t.v[1])], v[static_cast<size_t>(t.v[2])]))
-        faceted[b].push_back(&t);
-    total_pieces += faceted[b].size();
+    if (m.bodies[b].faceted) faceted[b] = face_triangles_of(m.bodies[b].body);
+    total_pieces += pieces[b].size() + faceted[b].size();
   }
   m.pieces.reserve(total_pieces);
   const auto place = [](ShadowPiece& pd) {
@@ -233,35 +226,26 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     }
     if (faceted[b].empty()) continue;
     const size_t first = m.pieces.size();
-    const auto& v = body_data.body.vertices();
-    for (const Triangle* t : faceted[b]) {
+    for (const FaceTriangle& t : faceted[b]) {
       body_data.pieces.push_back(static_cast<int>(m.pieces.size()));
-      m.pieces.emplace_back(std::array<Vec3, 3>{v[static_cast<size_t>(t->v[0])], v[static_cast<size_t>(t->v[1])],
-                                                v[static_cast<size_t>(t->v[2])]});
+      m.pieces.emplace_back(t.corners);
     }
     parallel_blocks(faceted[b].size(), 0, 4096, [&](size_t begin, size_t end) {
       for (size_t k = begin; k != end; ++k) {
         ShadowPiece& pd = m.pieces[first + k];
-        const Triangle& t = *faceted[b][k];
+        const int f = faceted[b][k].face;
         pd.body = static_cast<int>(b);
-        pd.face = t.face;
-        // The plane of the triangle's support triple: its own order from its lexicographically
-        // smallest corner (support_triple, Body::two_sided_polygon). A triangular face's own
-        // plane is that very plane (make_face built it already).
-        const ShadowFace& fd = body_data.faces[static_cast<size_t>(t.face)];
-        if (body_data.body.faces()[static_cast<size_t>(t.face)].loops.size() == 1 && fd.corners.size() == 3 &&
-            fd.corners[0] == pd.triangle[0] && fd.corners[1] == pd.triangle[1] && fd.corners[2] == pd.triangle[2]) {
-          pd.triangle_plane = fd.plane;
-        } else {
-          const auto& c = pd.triangle;
-          size_t f0 = 0;
-          for (size_t i = 1; i < 3; ++i)
-            if (std::lexicographical_compare(c[i].data(), c[i].data() + 3, c[f0].data(), c[f0].data() + 3)) f0 = i;
-          pd.triangle_plane = ExactPlane::through(c[f0], c[(f0 + 1) % 3], c[(f0 + 2) % 3]);
-        }
+        pd.face = f;
+        // triangle_plane; for a triangular face listed in its loop's order that is the face's
+        // own exact plane, which make_face built already.
+        const ShadowFace& fd = body_data.faces[static_cast<size_t>(f)];
+        const bool own = body_data.body.faces()[static_cast<size_t>(f)].loops.size() == 1 &&
+                         std::equal(fd.corners.begin(), fd.corners.end(), pd.triangle.begin(), pd.triangle.end());
+        pd.triangle_plane = own ? fd.plane : triangle_plane(pd.triangle);
         place(pd);
       }
     });
+    faceted[b] = {};
   }
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     ShadowBody& bd = m.bodies[b];

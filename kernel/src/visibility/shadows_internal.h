@@ -113,9 +113,7 @@ struct ShadowPiece {
     return triangle;
   }
   std::vector<ExactPlane> planes;  // a convex piece's face planes (exact_face_plane)
-  // A triangle: the plane of its support triple (exact_face_plane of face 0 of
-  // Body::two_sided_polygon(triangle), the body face's orientation).
-  ExactPlane triangle_plane;
+  ExactPlane triangle_plane;  // a triangle: triangle_plane(triangle)
   // The exact piece's faces (Decomposition::piece_planes); empty: none given.
   std::vector<std::pair<int, int>> exact_planes;
   Vec3 centre = Vec3::Zero();

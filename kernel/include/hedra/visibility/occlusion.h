@@ -82,7 +82,8 @@ OcclusionVolume occlusion_volume(const Body& convex_body, std::span<const Facing
 /// The occlusion volume of a triangle turned to the viewpoint (Occluders::Faces), without
 /// building a Body: `plane` is the plane of the triangle's support triple (exact_face_plane of
 /// face 0 of Body::two_sided_polygon(t)), and the planes are those occlusion_volume gives for
-/// that two-sided triangle when its face 0 is Front: that plane, then the planes through edges
+/// that two-sided triangle when its face 0 is Front (`plane`: triangle_plane(t)): that plane,
+/// then the planes through edges
 /// (t0, t1), (t1, t2), (t2, t0) and the viewpoint, each oriented by the third corner. Cost O(1).
 /// \pre facing(plane, view) == Facing::Front.
 OcclusionVolume triangle_occlusion_volume(const std::array<Vec3, 3>& t, const ExactPlane& plane,
@@ -110,16 +111,21 @@ inline bool occludes_by_faces(const Body& body, Occluders choice) {
          (choice == Occluders::Auto && body.face_count() > kFaceOccluderFaces);
 }
 
-/// The triangles of a body's faces (Occluders::Faces): for each face in `faces`, its outer
-/// loop itself when it is a triangle, else triangulate_polygon() of its loops; each triangle as
-/// a two-sided polygon (Body::two_sided_polygon) with the face it came from. Input vertices
-/// only, so every triangle is exactly planar. Cost O(F) for triangles, O(k log k) for a face of
-/// k vertices otherwise.
+/// The triangles of a body's faces (Occluders::Faces): for each face f with wanted[f] (all
+/// faces when `wanted` is empty), the triangles Body::triangles() lists for it, in that order,
+/// as their corners (input vertices, so every triangle is exactly planar) with the face they
+/// came from; a triangle with exactly collinear corners (none by contract) is dropped, as it
+/// hides nothing. No Body each: a million-face mesh makes a million of them. Cost O(T).
 struct FaceTriangle {
   int face = -1;
-  Body triangle;
+  std::array<Vec3, 3> corners;
 };
-std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<int>& faces);
+std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<char>& wanted = {});
+
+/// The plane of a triangle's support triple, inner side Positive: its corners in their own
+/// order from the lexicographically smallest (support_triple), so it is exact_face_plane of a
+/// triangular face listed in that order, and of face 0 of Body::two_sided_polygon(t). Cost O(1).
+ExactPlane triangle_plane(const std::array<Vec3, 3>& t);
 
 /// Exact: p lies strictly inside the occlusion volume (hidden). Cost O(planes).
 bool hides(const OcclusionVolume& volume, const Vec3& p);
