@@ -333,7 +333,9 @@ TEST(IsConvex, ThousandsOfFloatRoundedFacesListTheDefinitionsFacesWhateverTheThr
   for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
   Body rounded(v, f);
   ASSERT_GT(rounded.face_count(), 3 * 2048) << rounded.face_count();
+#ifndef HEDRA_SANITIZED  // the O(F·V) oracle on 6000 faces: 55 s under ASan + UBSan
   expect_matches_oracle(rounded, "float sphere, thousands of faces");
+#endif
   const std::vector<int> all_threads = convexity(rounded).nonconvex_faces;
   std::vector<int> one_thread;
   with_threads(1, [&] { one_thread = convexity(rounded).nonconvex_faces; });

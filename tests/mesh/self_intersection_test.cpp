@@ -213,7 +213,12 @@ TEST(SelfIntersection, AgreesWithBruteForceOnRandomMeshes) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> radius(1, 10), jitter(-3, 3);
   int bodies = 0, intersecting = 0, merged = 0;
-  for (int trial = 0; trial < 150; ++trial) {
+#ifdef HEDRA_SANITIZED
+  const int trials = 60;  // the brute force under ASan + UBSan (23 s for 150)
+#else
+  const int trials = 150;
+#endif
+  for (int trial = 0; trial < trials; ++trial) {
     std::vector<Vec3> v;
     for (const Vec3& d : dirs) {
       Vec3 p = d * (radius(rng) / 4.0) + Vec3(jitter(rng), jitter(rng), jitter(rng)) / 8.0;
@@ -238,10 +243,10 @@ TEST(SelfIntersection, AgreesWithBruteForceOnRandomMeshes) {
     }
   }
   // Both answers must be well represented for the comparison to mean something.
-  EXPECT_GE(bodies, 100);
-  EXPECT_GE(intersecting, 20);
-  EXPECT_GE(bodies - intersecting, 20);
-  EXPECT_GE(merged, 10);
+  EXPECT_GE(bodies, trials * 2 / 3);
+  EXPECT_GE(intersecting, trials / 8);
+  EXPECT_GE(bodies - intersecting, trials / 8);
+  EXPECT_GE(merged, trials / 15);
   std::printf("%d bodies, %d intersecting, %d with merged faces\n", bodies, intersecting, merged);
 }
 
