@@ -24,16 +24,16 @@ bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale) 
   return false;
 }
 
-CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vector<OcclusionVolume>& volumes,
+CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolumes& volumes,
                          const Viewpoint& view, double scale)
-    : pieces_(pieces), volumes_(volumes), view_(view), margin_(1e-9 * scale) {
+    : pieces_(pieces), view_(view), margin_(1e-9 * scale) {
   if (!view.at_infinity) {
     // The angular grid (shadows_internal.h): the frame from the pieces' mean direction, then
     // about four cells per small piece over the range of their cones.
     std::vector<int> active;
     Vec3 mean = Vec3::Zero();
     for (size_t p = 0; p < pieces.size(); ++p) {
-      if (!volumes[p].clipper) continue;
+      if (!volumes.active[p]) continue;
       active.push_back(static_cast<int>(p));
       const Vec3 c = pieces[p].centre - view.point;
       if (c.norm() > 0) mean += c.normalized();
@@ -80,7 +80,7 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vect
   e2_ = dir_.cross(e1_);
   std::vector<int> ids;
   for (size_t p = 0; p < pieces.size(); ++p) {
-    if (!volumes[p].clipper) continue;
+    if (!volumes.active[p]) continue;
     Bounds b = bounds(pieces[p].vertices());
     boxes_.push_back(b);
     ids.push_back(static_cast<int>(p));

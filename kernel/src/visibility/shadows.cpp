@@ -20,6 +20,7 @@ using internal::make_face;
 using internal::piece_on_face_plane;
 using internal::whole_face;
 using internal::CasterIndex;
+using internal::PieceVolumes;
 using internal::ShadowFace;
 using internal::ShadowPiece;
 using internal::ShadowSceneAccess;
@@ -31,7 +32,7 @@ double FaceShadow::lit_fraction() const {
 }
 
 void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
-                                      const std::vector<OcclusionVolume>& volumes,
+                                      const PieceVolumes& volumes,
                                       std::vector<Ring2>& out) const {
   const ShadowBody& bd = bodies[static_cast<size_t>(b)];
   const ShadowFace& fd = bd.faces[static_cast<size_t>(f)];
@@ -101,7 +102,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
       out.push_back(ring);
       return;
     }
-    const ConvexClipper& clipper = *volumes[static_cast<size_t>(p)].clipper;
+    const ConvexClipper& clipper = *volumes.volume_of(pieces, p).clipper;
     fd.for_parts([&](const Polygon3& part) {
       if (clip_convex_polygon_open(part, clipper, clipped, scratch) &&
           to_convex_ring(fd, clipped, ring))
@@ -111,30 +112,32 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
 }
 
 bool ShadowScene::Impl::point_hidden(int b, int f, const Vec3& p, const CasterIndex& index,
-                                     const std::vector<OcclusionVolume>& volumes) const {
+                                     const PieceVolumes& volumes) const {
   const ShadowBody& bd = bodies[static_cast<size_t>(b)];
   bool hidden = false;
   index.candidates({p}, p, 0, [&](int q) {
     if (hidden || (pieces[static_cast<size_t>(q)].body == b && bd.skips(f, q, pieces[static_cast<size_t>(q)]))) return;
-    hidden = hides(volumes[static_cast<size_t>(q)], p);
+    hidden = hides(volumes.volume_of(pieces, q), p);
   });
   return hidden;
 }
 
-std::vector<OcclusionVolume> ShadowScene::Impl::volumes(const Viewpoint& view,
-                                                        int threads) const {
-  std::vector<OcclusionVolume> v(pieces.size());
+PieceVolumes ShadowScene::Impl::volumes(const Viewpoint& view, int threads) const {
+  PieceVolumes v;
+  v.view = view;
+  v.volumes.resize(pieces.size());
+  v.active.assign(pieces.size(), 0);
   parallel_for(pieces.size(), threads, [&](size_t p) {
     const ShadowPiece& piece = pieces[p];
     if (!piece.shape) {
       // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
-      if (facing(piece.triangle_plane, view) == Facing::Front)
-        v[p] = triangle_occlusion_volume(piece.triangle, piece.triangle_plane, view);
+      v.active[p] = facing(piece.triangle_plane, view) == Facing::Front;
       return;
     }
     std::vector<Facing> turned(piece.planes.size());
     for (size_t f = 0; f < piece.planes.size(); ++f) turned[f] = facing(piece.planes[f], view);
-    v[p] = occlusion_volume(*piece.shape, turned, view, piece.planes);
+    v.volumes[p] = occlusion_volume(*piece.shape, turned, view, piece.planes);
+    v.active[p] = v.volumes[p].clipper.has_value();
   });
   return v;
 }
@@ -208,10 +211,10 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
   }
   m.pieces.reserve(total_pieces);
   const auto place = [](ShadowPiece& pd) {
-    Eigen::AlignedBox3d box;
-    for (const Vec3& p : pd.vertices()) box.extend(p);
-    pd.centre = box.center();
-    pd.radius = 0.5 * box.diagonal().norm();
+    Eigen::AlignedBox3d bounds;
+    for (const Vec3& p : pd.vertices()) bounds.extend(p);
+    pd.centre = bounds.center();
+    pd.radius = 0.5 * bounds.diagonal().norm();
   };
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     ShadowBody& body_data = m.bodies[b];
@@ -301,7 +304,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
     LightShadows ls;
     ls.light = lights[l];
     ls.faces.resize(nf);
-    std::vector<OcclusionVolume> volumes;
+    PieceVolumes volumes;
     std::optional<CasterIndex> index;
     if (options.cast) {
       volumes = m.volumes(view, options.threads);
@@ -342,7 +345,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
   // Visible parts: the shadow minus what other pieces hide from the eye.
   if (options.polygons && options.visible_parts && !lights.empty()) {
     const Viewpoint eye = Viewpoint::of(m.camera);
-    const std::vector<OcclusionVolume> eye_volumes = m.volumes(eye, options.threads);
+    const PieceVolumes eye_volumes = m.volumes(eye, options.threads);
     const CasterIndex eye_index(m.pieces, eye_volumes, eye, m.scale);
     meter.stage(0.8, 0.9, static_cast<double>(nf));
     parallel_for(nf, options.threads, [&](size_t i) {
@@ -451,7 +454,7 @@ bool in_shadow(const Scene& scene, const Light& light, int body, int face, const
   if (facing(m.bodies[static_cast<size_t>(b)].faces[static_cast<size_t>(face)].plane, view) ==
       Facing::Back)
     return true;
-  const std::vector<OcclusionVolume> volumes = m.volumes(view, 1);
+  const PieceVolumes volumes = m.volumes(view, 1);
   const CasterIndex index(m.pieces, volumes, view, m.scale);
   return m.point_hidden(b, face, p, index, volumes);
 }

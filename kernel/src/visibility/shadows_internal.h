@@ -155,12 +155,33 @@ struct ShadowBody {
 /// InputPlanes::face_planes), which shadows.cpp decides. Cost O(faces).
 bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale);
 
+// The pieces' occlusion from one viewpoint (ShadowScene::Impl::volumes): which pieces occlude
+// at all (a face turned to the viewpoint) and the occlusion volumes of the convex pieces. A
+// triangle of a body occluding by its faces keeps no volume: a million-face mesh made half a
+// million of them (0.7 s and about 500 MB), of which a shadow clips against few, since most
+// candidates are settled before (projected whole, or behind the face). volume_of builds it when
+// a clip needs it.
+struct PieceVolumes {
+  std::vector<OcclusionVolume> volumes;  // per piece; empty for a triangle
+  std::vector<char> active;              // per piece: it occludes from the viewpoint
+  Viewpoint view;
+  // The volume of piece p (active): the stored one, or a triangle's built in a per-thread
+  // scratch, valid until this thread's next call. Cost O(1) for a triangle.
+  const OcclusionVolume& volume_of(const std::vector<ShadowPiece>& pieces, int p) const {
+    const ShadowPiece& piece = pieces[static_cast<size_t>(p)];
+    if (piece.shape) return volumes[static_cast<size_t>(p)];
+    thread_local OcclusionVolume scratch;
+    scratch = triangle_occlusion_volume(piece.triangle, piece.triangle_plane, view);
+    return scratch;
+  }
+};
+
 // For one viewpoint: which pieces can hide part of a face. Parallel view: a uniform grid over
 // the pieces' boxes projected onto a plane across the direction, plus depth (a piece can only
 // shadow what lies beyond its nearest point). Finite viewpoint: bounding cones from the point.
 class CasterIndex {
  public:
-  CasterIndex(const std::vector<ShadowPiece>& pieces, const std::vector<OcclusionVolume>& volumes,
+  CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolumes& volumes,
               const Viewpoint& view, double scale);
 
   const Viewpoint& view() const { return view_; }
@@ -317,7 +338,6 @@ class CasterIndex {
   std::vector<int> always_;
 
   const std::vector<ShadowPiece>& pieces_;
-  const std::vector<OcclusionVolume>& volumes_;
   Viewpoint view_;
   double margin_;
   Vec3 dir_ = Vec3::UnitZ(), e1_ = Vec3::UnitX(), e2_ = Vec3::UnitY();
@@ -348,12 +368,12 @@ struct ShadowScene::Impl {
   // The 2D shadow pieces of face (b, f) from a viewpoint: the face's convex parts clipped
   // against the occlusion volumes of the candidate pieces.
   void hidden_pieces(int b, int f, const internal::CasterIndex& index,
-                     const std::vector<OcclusionVolume>& volumes, std::vector<Ring2>& out) const;
+                     const internal::PieceVolumes& volumes, std::vector<Ring2>& out) const;
   // Whether p (on face (b, f)) lies strictly inside a candidate's occlusion volume.
   bool point_hidden(int b, int f, const Vec3& p, const internal::CasterIndex& index,
-                    const std::vector<OcclusionVolume>& volumes) const;
-  // The occlusion volumes of every piece from a viewpoint (cached face planes and facings).
-  std::vector<OcclusionVolume> volumes(const Viewpoint& view, int threads) const;
+                    const internal::PieceVolumes& volumes) const;
+  // The pieces' occlusion from a viewpoint (cached face planes and facings).
+  internal::PieceVolumes volumes(const Viewpoint& view, int threads) const;
   Occluders occluders = Occluders::Auto;
 };
 

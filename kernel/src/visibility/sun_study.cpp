@@ -11,6 +11,7 @@ namespace {
 
 using internal::ShadowBody;
 using internal::CasterIndex;
+using internal::PieceVolumes;
 using internal::ShadowFace;
 using internal::ShadowSceneAccess;
 
@@ -152,7 +153,7 @@ SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
         const Viewpoint view = Viewpoint::of(light);
         const ShadowBody& bd = m.bodies[static_cast<size_t>(grid_b)];
         if (facing(bd.faces[static_cast<size_t>(grid_f)].plane, view) == Facing::Front) {
-          const std::vector<OcclusionVolume> volumes = m.volumes(view, options.threads);
+          const PieceVolumes volumes = m.volumes(view, options.threads);
           const CasterIndex index(m.pieces, volumes, view, m.scale);
           parallel_for(study.grid_points.size(), options.threads, [&](size_t g) {
             step.grid_lit[g] =
