@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "hedra/core/parallel.h"
 #include "hedra/core/tolerance.h"
 #include "visibility/shadows_internal.h"
 
@@ -25,7 +26,7 @@ bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale) 
 }
 
 CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolumes& volumes,
-                         const Viewpoint& view, double scale)
+                         const Viewpoint& view, double scale, int threads)
     : pieces_(pieces), view_(view), margin_(1e-9 * scale) {
   if (!view.at_infinity) {
     // The angular grid (shadows_internal.h): the frame from the pieces' mean direction, then
@@ -43,14 +44,21 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolu
       az_ = ax_.unitOrthogonal();
       ay_ = az_.cross(ax_);
     }
+    // The cones in parallel (asin, acos, atan2 each: half a million triangles of a mesh took
+    // 0.2 s on one thread), then split into wide and small in piece order.
     std::vector<Cone> cones(pieces.size());
+    parallel_blocks(active.size(), threads, 4096, [&](size_t begin, size_t end) {
+      for (size_t i = begin; i != end; ++i) {
+        const size_t p = static_cast<size_t>(active[i]);
+        const Vec3 c = pieces[p].centre - view.point;
+        cones[p] = cone_of(c, c.norm(), pieces[p].radius + margin_);
+      }
+    });
     std::vector<int> small;
     const double pi = std::numbers::pi;
     double t_lo = pi, t_hi = 0, p_lo = pi, p_hi = -pi;
     for (int p : active) {
-      const Vec3 c = pieces[static_cast<size_t>(p)].centre - view.point;
-      const Cone k = cone_of(c, c.norm(), pieces[static_cast<size_t>(p)].radius + margin_);
-      cones[static_cast<size_t>(p)] = k;
+      const Cone& k = cones[static_cast<size_t>(p)];
       if (k.all_phi || k.t1 - k.t0 > 2 * kWideCone || k.p1 - k.p0 > 2 * kWideCone || k.p0 < -pi || k.p1 > pi) {
         always_.push_back(p);
         continue;

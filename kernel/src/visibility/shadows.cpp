@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <numeric>
 
 #include "hedra/core/error.h"
 #include "hedra/core/parallel.h"
@@ -131,7 +133,7 @@ PieceVolumes ShadowScene::Impl::volumes(const Viewpoint& view, int threads) cons
     const ShadowPiece& piece = pieces[p];
     if (!piece.shape) {
       // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
-      v.active[p] = facing(piece.triangle_plane, view) == Facing::Front;
+      v.active[p] = facing(*piece.triangle_plane, view) == Facing::Front;
       return;
     }
     std::vector<Facing> turned(piece.planes.size());
@@ -209,34 +211,35 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     if (m.bodies[b].faceted) faceted[b] = face_triangles_of(m.bodies[b].body);
     total_pieces += pieces[b].size() + faceted[b].size();
   }
-  m.pieces.reserve(total_pieces);
+  // Every piece default-made first, then filled; a faceted body's triangles in parallel.
+  m.pieces.resize(total_pieces);
   const auto place = [](ShadowPiece& pd) {
     Eigen::AlignedBox3d bounds;
     for (const Vec3& p : pd.vertices()) bounds.extend(p);
     pd.centre = bounds.center();
     pd.radius = 0.5 * bounds.diagonal().norm();
   };
+  size_t next = 0;
   for (size_t b = 0; b < m.bodies.size(); ++b) {
     ShadowBody& body_data = m.bodies[b];
+    body_data.pieces.resize(pieces[b].size() + faceted[b].size());
+    std::iota(body_data.pieces.begin(), body_data.pieces.end(), static_cast<int>(next));
     for (size_t k = 0; k < pieces[b].size(); ++k) {
-      ShadowPiece pd(std::move(pieces[b][k]));
+      ShadowPiece& pd = m.pieces[next++];
+      pd.shape = std::move(pieces[b][k]);
       pd.planes = std::move(piece_planes[b][k]);
       if (k < exact_planes[b].size()) pd.exact_planes = std::move(exact_planes[b][k]);
       pd.body = static_cast<int>(b);
       place(pd);
-      body_data.pieces.push_back(static_cast<int>(m.pieces.size()));
-      m.pieces.push_back(std::move(pd));
     }
     if (faceted[b].empty()) continue;
-    const size_t first = m.pieces.size();
-    for (const FaceTriangle& t : faceted[b]) {
-      body_data.pieces.push_back(static_cast<int>(m.pieces.size()));
-      m.pieces.emplace_back(t.corners);
-    }
+    const size_t first = next;
+    next += faceted[b].size();
     parallel_blocks(faceted[b].size(), 0, 4096, [&](size_t begin, size_t end) {
       for (size_t k = begin; k != end; ++k) {
         ShadowPiece& pd = m.pieces[first + k];
         const int f = faceted[b][k].face;
+        pd.triangle = faceted[b][k].corners;
         pd.body = static_cast<int>(b);
         pd.face = f;
         // triangle_plane; for a triangular face listed in its loop's order that is the face's
@@ -244,7 +247,12 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
         const ShadowFace& fd = body_data.faces[static_cast<size_t>(f)];
         const bool own = body_data.body.faces()[static_cast<size_t>(f)].loops.size() == 1 &&
                          std::equal(fd.corners.begin(), fd.corners.end(), pd.triangle.begin(), pd.triangle.end());
-        pd.triangle_plane = own ? fd.plane : triangle_plane(pd.triangle);
+        if (own) {
+          pd.triangle_plane = &fd.plane;
+        } else {
+          pd.own_triangle_plane = std::make_unique<ExactPlane>(triangle_plane(pd.triangle));
+          pd.triangle_plane = pd.own_triangle_plane.get();
+        }
         place(pd);
       }
     });
@@ -308,7 +316,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
     std::optional<CasterIndex> index;
     if (options.cast) {
       volumes = m.volumes(view, options.threads);
-      index.emplace(m.pieces, volumes, view, m.scale);
+      index.emplace(m.pieces, volumes, view, m.scale, options.threads);
     }
     if (keep_pieces) kept[l].resize(nf);
     meter.stage(0.8 * l / passes, 0.8 * (l + 1) / passes, static_cast<double>(nf));
@@ -346,7 +354,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
   if (options.polygons && options.visible_parts && !lights.empty()) {
     const Viewpoint eye = Viewpoint::of(m.camera);
     const PieceVolumes eye_volumes = m.volumes(eye, options.threads);
-    const CasterIndex eye_index(m.pieces, eye_volumes, eye, m.scale);
+    const CasterIndex eye_index(m.pieces, eye_volumes, eye, m.scale, options.threads);
     meter.stage(0.8, 0.9, static_cast<double>(nf));
     parallel_for(nf, options.threads, [&](size_t i) {
       meter.add();

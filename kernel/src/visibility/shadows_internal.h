@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <memory>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -101,8 +102,6 @@ ShadowPolygon whole_face(const Body& body, int f);
 // ---- Pieces and the broad phase ----
 
 struct ShadowPiece {
-  explicit ShadowPiece(Body b) : shape(std::move(b)) {}
-  explicit ShadowPiece(const std::array<Vec3, 3>& t) : triangle(t) {}
   int body = 0;  // index into Impl::bodies
   // A convex piece; empty for a triangle of a body occluding by its faces, which keeps only
   // its corners (a million-face mesh makes a million triangles: no Body each).
@@ -113,7 +112,11 @@ struct ShadowPiece {
     return triangle;
   }
   std::vector<ExactPlane> planes;  // a convex piece's face planes (exact_face_plane)
-  ExactPlane triangle_plane;  // a triangle: triangle_plane(triangle)
+  // A triangle: its exact plane, triangle_plane(triangle). That is the plane of its face when
+  // the face is a triangle listed from the same corner (ShadowFace::plane, not copied: 160
+  // bytes a triangle), else own_triangle_plane.
+  const ExactPlane* triangle_plane = nullptr;
+  std::unique_ptr<ExactPlane> own_triangle_plane;
   // The exact piece's faces (Decomposition::piece_planes); empty: none given.
   std::vector<std::pair<int, int>> exact_planes;
   Vec3 centre = Vec3::Zero();
@@ -171,7 +174,7 @@ struct PieceVolumes {
     const ShadowPiece& piece = pieces[static_cast<size_t>(p)];
     if (piece.shape) return volumes[static_cast<size_t>(p)];
     thread_local OcclusionVolume scratch;
-    scratch = triangle_occlusion_volume(piece.triangle, piece.triangle_plane, view);
+    scratch = triangle_occlusion_volume(piece.triangle, *piece.triangle_plane, view);
     return scratch;
   }
 };
@@ -181,8 +184,9 @@ struct PieceVolumes {
 // shadow what lies beyond its nearest point). Finite viewpoint: bounding cones from the point.
 class CasterIndex {
  public:
+  // Cost O(pieces + cells listed); `threads` as ShadowOptions::threads.
   CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolumes& volumes,
-              const Viewpoint& view, double scale);
+              const Viewpoint& view, double scale, int threads = 0);
 
   const Viewpoint& view() const { return view_; }
 

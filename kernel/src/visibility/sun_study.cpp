@@ -154,7 +154,7 @@ SunStudy sun_study(const Scene& scene, const SunStudyOptions& options) {
         const ShadowBody& bd = m.bodies[static_cast<size_t>(grid_b)];
         if (facing(bd.faces[static_cast<size_t>(grid_f)].plane, view) == Facing::Front) {
           const PieceVolumes volumes = m.volumes(view, options.threads);
-          const CasterIndex index(m.pieces, volumes, view, m.scale);
+          const CasterIndex index(m.pieces, volumes, view, m.scale, options.threads);
           parallel_for(study.grid_points.size(), options.threads, [&](size_t g) {
             step.grid_lit[g] =
                 m.point_hidden(grid_b, grid_f, study.grid_points[g], index, volumes) ? 0 : 1;
