@@ -13,6 +13,7 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/tolerance.h"
 #include "hedra/core/triangulate.h"
 
@@ -151,10 +152,13 @@ std::vector<Edge> check_topology(const Loops& faces, const std::vector<Vec3>& ve
     for (int h = 0; h < h_count; ++h)
       order[static_cast<size_t>(fill[static_cast<size_t>(from[static_cast<size_t>(h)])]++)] = h;
   }
-  for (size_t v = 0; v < vertex_count; ++v)  // by end vertex, then traversal order
-    std::sort(order.begin() + start[v], order.begin() + start[v + 1], [&](int x, int y) {
-      return std::tie(to[static_cast<size_t>(x)], x) < std::tie(to[static_cast<size_t>(y)], y);
-    });
+  // By end vertex, then traversal order; vertices in parallel (each group is its own range).
+  parallel_blocks(vertex_count, 0, 4096, [&](size_t begin, size_t end) {
+    for (size_t v = begin; v != end; ++v)
+      std::sort(order.begin() + start[v], order.begin() + start[v + 1], [&](int x, int y) {
+        return std::tie(to[static_cast<size_t>(x)], x) < std::tie(to[static_cast<size_t>(y)], y);
+      });
+  });
   // The first half-edge a → b in traversal order, or −1.
   auto find = [&](int a, int b) {
     auto first = order.begin() + start[static_cast<size_t>(a)];
@@ -197,48 +201,56 @@ std::vector<Edge> check_topology(const Loops& faces, const std::vector<Vec3>& ve
                        str(to[static_cast<size_t>(first_conflict)]));
   }
 
-  // Closed: every half-edge has its twin.
-  int boundary = 0, bound_a = -1, bound_b = -1;
+  // Closed: every half-edge has its twin (in parallel, each in its own place).
   std::vector<int> twin(static_cast<size_t>(h_count));
-  std::vector<Edge> edges;
-  edges.reserve(static_cast<size_t>(h_count) / 2);
-  for (int h = 0; h < h_count; ++h) {
-    const int a = from[static_cast<size_t>(h)], b = to[static_cast<size_t>(h)];
-    const int t = find(b, a);
-    twin[static_cast<size_t>(h)] = t;
-    if (t < 0) {
-      if (boundary++ == 0) { bound_a = a; bound_b = b; }
-    } else if (a < b) {
-      edges.push_back({a, b, face_of[static_cast<size_t>(h)], face_of[static_cast<size_t>(t)]});
+  parallel_blocks(static_cast<size_t>(h_count), 0, 8192, [&](size_t begin, size_t end) {
+    for (size_t h = begin; h != end; ++h) twin[h] = find(to[h], from[h]);
+  });
+  int boundary = 0, bound_a = -1, bound_b = -1;
+  for (int h = 0; h < h_count; ++h)
+    if (twin[static_cast<size_t>(h)] < 0 && boundary++ == 0) {
+      bound_a = from[static_cast<size_t>(h)];
+      bound_b = to[static_cast<size_t>(h)];
     }
-  }
   if (boundary > 0)
     throw InvalidInput("not closed: " + str(boundary) + " boundary edge" +
                        (boundary > 1 ? "s" : "") + ", first between vertices " + str(bound_a) +
                        " " + vec(vertices[static_cast<size_t>(bound_a)]) + " and " + str(bound_b) +
                        " " + vec(vertices[static_cast<size_t>(bound_b)]));
+  // The edges (a < b) sorted by (a, b) as they come: vertex a's half-edges are grouped in
+  // `order` by their end vertex, ascending, and no directed edge repeats.
+  std::vector<Edge> edges;
+  edges.reserve(static_cast<size_t>(h_count) / 2);
+  for (const int h : order) {
+    const int a = from[static_cast<size_t>(h)], b = to[static_cast<size_t>(h)];
+    if (a < b)
+      edges.push_back({a, b, face_of[static_cast<size_t>(h)], face_of[static_cast<size_t>(twin[static_cast<size_t>(h)])]});
+  }
 
   // Manifold vertices: the corners around each vertex form one cycle. The corner at the start
   // of half-edge h (v → w, entered by prev(h) = u → v) is followed around v by the corner of
   // the twin of prev(h), v → u.
+  // The walk stays at the vertex, so the vertices are counted in parallel (corners of v:
+  // the half-edges leaving v, order[start[v] … start[v + 1])).
   std::vector<int> cycles_of(vertex_count, 0);
   std::vector<char> visited(static_cast<size_t>(h_count), 0);
-  for (int c = 0; c < h_count; ++c) {
-    if (visited[static_cast<size_t>(c)]) continue;
-    ++cycles_of[static_cast<size_t>(from[static_cast<size_t>(c)])];
-    int k = c;
-    while (!visited[static_cast<size_t>(k)]) {
-      visited[static_cast<size_t>(k)] = 1;
-      k = twin[static_cast<size_t>(prev[static_cast<size_t>(k)])];
-    }
-  }
+  parallel_blocks(vertex_count, 0, 4096, [&](size_t begin, size_t end) {
+    for (size_t v = begin; v != end; ++v)
+      for (int i = start[v]; i < start[v + 1]; ++i) {
+        const int c = order[static_cast<size_t>(i)];
+        if (visited[static_cast<size_t>(c)]) continue;
+        ++cycles_of[v];
+        int k = c;
+        while (!visited[static_cast<size_t>(k)]) {
+          visited[static_cast<size_t>(k)] = 1;
+          k = twin[static_cast<size_t>(prev[static_cast<size_t>(k)])];
+        }
+      }
+  });
   for (size_t v = 0; v < vertex_count; ++v)
     if (cycles_of[v] > 1)
       throw InvalidInput("non-manifold vertex " + str(static_cast<int>(v)) + ": its faces form " +
                          str(cycles_of[v]) + " separate fans (two parts touching at a point?)");
-  std::sort(edges.begin(), edges.end(), [](const Edge& x, const Edge& y) {
-    return std::tie(x.v0, x.v1) < std::tie(y.v0, y.v1);
-  });
   if (twin_out) *twin_out = std::move(twin);
   return edges;
 }
@@ -286,56 +298,85 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   impl->supports.resize(n);
   impl->face_areas.resize(n);
   impl->matrix.resize(4, n);
-  for (int f = 0; f < n; ++f) {
-    const Face& face = faces[f];
-    const std::string where = "face " + str(f);
-    // One loop: exact signs where rounding cannot tell (a sliver triangle read from a file).
-    const Vec3 outward = face.loops.size() == 1 ? oriented_normal(vertices, face.loops[0])
-                                                : newell_normal(vertices, face.loops);
-    // stableNorm and the unit normal below: the squares of a tiny face's normal (a body of
-    // size 1e-100) underflow, those of a huge one overflow; the checks use the unit normal.
-    const double length = outward.stableNorm();
-    if (!(length > 0) || !std::isfinite(length))
-      throw InvalidInput(where + " has zero area (its vertices are collinear)");
-    const Vec3 unit = outward / length;
-    std::array<int, 3> s = support_triple(vertices, face.loops[0], unit);
-    if (s[2] < 0) throw InvalidInput(where + " has zero area (its vertices are collinear)");
-    if (collinear(vertices[s[0]], vertices[s[1]], vertices[s[2]]))
-      throw InvalidInput(where + " is degenerate (its vertices are collinear)");
-    impl->supports[f] = s;
-    // Inner normal = −outward; d from the vertex average of the outer loop.
-    Vec3 centre = Vec3::Zero();
-    for (int v : face.loops[0]) centre += vertices[v];
-    centre /= static_cast<double>(face.loops[0].size());
-    impl->planes[f] = Plane::through(centre, -unit);
-    impl->planes[f].coefficients.array() += 0.0;  // −0 becomes +0: cleaner matrices
-    impl->matrix.col(f) = impl->planes[f].coefficients;
-    impl->face_areas[f] = length / 2;
+  // Faces in parallel, in chunks of a fixed size (each chunk's triangles in its own list,
+  // joined in face order); the first failing face of each chunk is kept and the smallest one
+  // reported, so the message is the sequential loop's whatever the threads.
+  constexpr int kChunk = 2048;
+  const int chunks = (n + kChunk - 1) / kChunk;
+  std::vector<std::vector<Triangle>> chunk_triangles(static_cast<size_t>(chunks));
+  std::vector<std::pair<int, std::string>> chunk_error(static_cast<size_t>(chunks), {-1, {}});
+  parallel_for(static_cast<size_t>(chunks), 0, [&](size_t chunk) {
+    std::vector<Triangle>& out = chunk_triangles[chunk];
+    const int chunk_end = std::min(n, static_cast<int>(chunk + 1) * kChunk);
+    for (int f = static_cast<int>(chunk) * kChunk; f < chunk_end; ++f) {
+      try {
+        const Face& face = faces[f];
+        // Built only for a message: a string per face cost more than the checks.
+        const auto where = [f] { return "face " + str(f); };
+        // One loop: exact signs where rounding cannot tell (a sliver triangle read from a file).
+        const Vec3 outward = face.loops.size() == 1 ? oriented_normal(vertices, face.loops[0])
+                                                    : newell_normal(vertices, face.loops);
+        // stableNorm and the unit normal below: the squares of a tiny face's normal (a body of
+        // size 1e-100) underflow, those of a huge one overflow; the checks use the unit normal.
+        const double length = outward.stableNorm();
+        if (!(length > 0) || !std::isfinite(length))
+          throw InvalidInput(where() + " has zero area (its vertices are collinear)");
+        const Vec3 unit = outward / length;
+        std::array<int, 3> s = support_triple(vertices, face.loops[0], unit);
+        if (s[2] < 0) throw InvalidInput(where() + " has zero area (its vertices are collinear)");
+        if (collinear(vertices[s[0]], vertices[s[1]], vertices[s[2]]))
+          throw InvalidInput(where() + " is degenerate (its vertices are collinear)");
+        impl->supports[f] = s;
+        // Inner normal = −outward; d from the vertex average of the outer loop.
+        Vec3 centre = Vec3::Zero();
+        for (int v : face.loops[0]) centre += vertices[v];
+        centre /= static_cast<double>(face.loops[0].size());
+        impl->planes[f] = Plane::through(centre, -unit);
+        impl->planes[f].coefficients.array() += 0.0;  // −0 becomes +0: cleaner matrices
+        impl->matrix.col(f) = impl->planes[f].coefficients;
+        impl->face_areas[f] = length / 2;
 
-    // Planarity: exact first; then within the tolerance.
-    const Vec3& a = vertices[s[0]];
-    const Vec3& b = vertices[s[1]];
-    const Vec3& c = vertices[s[2]];
-    for (const auto& loop : face.loops)
-      for (int v : loop) {
-        if (v == s[0] || v == s[1] || v == s[2]) continue;
-        if (orient3d(a, b, c, vertices[v]) == Sign::Zero) continue;
-        double off = std::abs(impl->planes[f].value(vertices[v]));
-        if (off > tolerance)
-          throw InvalidInput(where + " is not planar: vertex " + str(v) + " is " + fmt(off) +
-                             " off its plane (tolerance " + fmt(tolerance) + ")");
+        // Planarity: exact first; then within the tolerance.
+        const Vec3& a = vertices[s[0]];
+        const Vec3& b = vertices[s[1]];
+        const Vec3& c = vertices[s[2]];
+        for (const auto& loop : face.loops)
+          for (int v : loop) {
+            if (v == s[0] || v == s[1] || v == s[2]) continue;
+            if (orient3d(a, b, c, vertices[v]) == Sign::Zero) continue;
+            double off = std::abs(impl->planes[f].value(vertices[v]));
+            if (off > tolerance)
+              throw InvalidInput(where() + " is not planar: vertex " + str(v) + " is " + fmt(off) +
+                                 " off its plane (tolerance " + fmt(tolerance) + ")");
+          }
+        for (size_t l = 1; l < face.loops.size(); ++l)
+          if (newell_normal(vertices, face.loops[l]).dot(unit) >= 0)
+            throw InvalidInput(
+                where() + ": hole " + str(static_cast<int>(l)) +
+                " runs the same way as the outer loop (holes must run the other way)");
+        if (newell_normal(vertices, face.loops[0]).dot(unit) <= 0)
+          throw InvalidInput(where() + ": its outer loop is smaller than its holes");
+        try {
+          for (const auto& t : triangulate_polygon(vertices, face.loops, unit))
+            out.push_back({t, f});
+        } catch (const InvalidInput& e) {
+          throw InvalidInput(where() + " is not a simple polygon: " + e.what());
+        }
+      } catch (const InvalidInput& e) {
+        chunk_error[chunk] = {f, e.what()};
+        return;
       }
-    for (size_t l = 1; l < face.loops.size(); ++l)
-      if (newell_normal(vertices, face.loops[l]).dot(unit) >= 0)
-        throw InvalidInput(where + ": hole " + str(static_cast<int>(l)) +
-                           " runs the same way as the outer loop (holes must run the other way)");
-    if (newell_normal(vertices, face.loops[0]).dot(unit) <= 0)
-      throw InvalidInput(where + ": its outer loop is smaller than its holes");
-    try {
-      for (const auto& t : triangulate_polygon(vertices, face.loops, unit))
-        impl->triangles.push_back({t, f});
-    } catch (const InvalidInput& e) {
-      throw InvalidInput(where + " is not a simple polygon: " + e.what());
+    }
+  });
+  for (const auto& [face, message] : chunk_error)
+    if (face >= 0) throw InvalidInput(message);
+  {
+    size_t total = 0;
+    for (const auto& t : chunk_triangles) total += t.size();
+    impl->triangles.reserve(total);
+    for (auto& t : chunk_triangles) {
+      impl->triangles.insert(impl->triangles.end(), t.begin(), t.end());
+      t = {};
     }
   }
 
