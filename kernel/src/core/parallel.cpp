@@ -19,7 +19,8 @@ int bounded_threads(int requested) {
 void parallel_blocks(size_t n, int threads, size_t grain,
                      const std::function<void(size_t, size_t)>& f) {
   if (n == 0) return;
-  if (threads == 1) {
+  // One block in the current arena: no task (decompositions build many Bodies of a few faces).
+  if (threads == 1 || (threads <= 0 && n <= grain)) {
     f(0, n);
     return;
   }

@@ -39,7 +39,17 @@ void convex_parts(const Body& body, int f, ShadowFace& fd) {
     if (fd.flip) std::reverse(r.begin(), r.end());
     return r;
   };
-  if (face.loops.size() == 1 && convex_ccw(ring2d(face.loops[0]))) {
+  if (face.loops.size() == 1 && face.loops[0].size() == 3) {
+    // A triangle (most faces of a mesh): convex_ccw's test without building a ring (its three
+    // turns are one orientation).
+    const auto& t = face.loops[0];
+    const Vec2 a = drop(v[static_cast<size_t>(t[0])], fd.axis), b = drop(v[static_cast<size_t>(t[1])], fd.axis),
+               c = drop(v[static_cast<size_t>(t[2])], fd.axis);
+    if ((fd.flip ? orient2d(c, b, a) : orient2d(a, b, c)) != Sign::Negative) {  // as convex_ccw
+      fd.convex = true;
+      return;
+    }
+  } else if (face.loops.size() == 1 && convex_ccw(ring2d(face.loops[0]))) {
     fd.convex = true;
     return;
   }
