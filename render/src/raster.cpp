@@ -273,8 +273,8 @@ ExactMask prepare_mask(const SurfaceShadows& shadows, const SceneGeometry& geome
 void scan_mask(ExactMask& mask, const detail::SampleGrid& grid, int tile_size) {
   mask.tile_spans.assign(static_cast<size_t>(mask.tiles_x) * mask.tiles_y, {});
   const int tile_samples = tile_size * grid.g;
-  parallel_for(static_cast<size_t>(mask.tiles_y), 0, [&](size_t index) {
-    const int band = static_cast<int>(index);
+  parallel_for(static_cast<size_t>(mask.tiles_y), 0, [&](size_t band_index) {
+    const int band = static_cast<int>(band_index);
     const int r0 = band * tile_samples, r1 = std::min(r0 + tile_samples, grid.rows);
     std::vector<double> xs;
     for (uint32_t index : mask.band_lists[static_cast<size_t>(band)]) {
