@@ -104,6 +104,16 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
       out.push_back(ring);
       return;
     }
+    if (!piece.shape) {
+      // The first plane of a triangle's volume is its own (open: only its strict inner side is
+      // hidden): a face wholly on the other side, or on it, is not hidden. Settles, with the
+      // plane the triangle has already, a neighbour across an edge that rounding to float made
+      // reflex by an ulp (a sixth of the triangles clipped on a 1M float32 sphere), before a
+      // volume is built.
+      bool inside = false;
+      for (const Vec3& c : corners) inside = inside || side_of_plane(*piece.triangle_plane, c) == Sign::Positive;
+      if (!inside) return;
+    }
     const ConvexClipper& clipper = *volumes.volume_of(pieces, p).clipper;
     fd.for_parts([&](const Polygon3& part) {
       if (clip_convex_polygon_open(part, clipper, clipped, scratch) &&
