@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
 
 #include "hedra/core/error.h"
+#include "hedra/core/parallel.h"
 #include "hedra/core/primitives.h"
 
 namespace hedra {
@@ -271,6 +275,38 @@ TEST(BodyErrors, SelfCrossingFace) {
   // A hole outside the outline.
   EXPECT_THROW(prism({{0, 0}, {1, 0}, {1, 1}, {0, 1}}, 0, 1, {{{2, 2}, {3, 2}, {3, 3}}}),
                InvalidInput);
+}
+
+TEST(Body, FirstFailingFaceIsReportedWhateverTheThreads) {
+  // The per-face stage runs in chunks of 2048 faces in parallel: with two bent side faces in
+  // different chunks, the message still names the first, as the sequential loop did.
+  const int n = 2100;
+  Polygon2 outline;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * std::numbers::pi * i / n;
+    outline.emplace_back(std::cos(a), std::sin(a));
+  }
+  const Body straight = prism(outline, 0, 1);
+  ASSERT_EQ(straight.face_count(), n + 2);
+  // Bottom vertex i pulled inwards (the box, hence the tolerance, stays): side faces i − 1 and
+  // i (faces i + 1 and i + 2, after the two caps) are no longer planar; the bottom cap still is.
+  const auto message = [&](const std::vector<int>& moved) {
+    std::vector<Vec3> v = straight.vertices();
+    for (int i : moved) v[static_cast<size_t>(i)] -= 0.05 * Vec3(v[static_cast<size_t>(i)].x(), v[static_cast<size_t>(i)].y(), 0);
+    try {
+      Body(v, straight.faces());
+    } catch (const InvalidInput& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  const std::string first = message({1000});
+  EXPECT_EQ(first.rfind("face 1001 is not planar", 0), 0u) << first;
+  EXPECT_EQ(message({1000, 2080}), first);
+  EXPECT_EQ(message({2080, 1000}), first);
+  std::string one_thread;
+  with_threads(1, [&] { one_thread = message({1000, 2080}); });
+  EXPECT_EQ(one_thread, first);
 }
 
 }  // namespace
