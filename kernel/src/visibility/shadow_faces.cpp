@@ -10,14 +10,6 @@
 namespace hedra::internal {
 namespace {
 
-// Exact convexity of a counter-clockwise 2D ring (collinear vertices allowed).
-bool convex_ccw(const Ring2& r) {
-  const size_t n = r.size();
-  for (size_t i = 0; i < n; ++i)
-    if (orient2d(r[(i + n - 1) % n], r[i], r[(i + 1) % n]) == Sign::Negative) return false;
-  return true;
-}
-
 // Convex parts of a face: the outer loop itself when it is convex and has no holes, else the
 // face's triangles merged greedily while the union stays convex (Hertel–Mehlhorn): always the
 // first pair in list order (then the first shared edge of the first polygon) whose union is
@@ -32,24 +24,22 @@ bool convex_ccw(const Ring2& r) {
 void convex_parts(const Body& body, int f, ShadowFace& fd) {
   const Face& face = body.faces()[static_cast<size_t>(f)];
   const auto& v = body.vertices();
-  auto ring2d = [&](const std::vector<int>& ids) {
-    Ring2 r;
-    r.reserve(ids.size());
-    for (int id : ids) r.push_back(drop(v[static_cast<size_t>(id)], fd.axis));
-    if (fd.flip) std::reverse(r.begin(), r.end());
-    return r;
+  // The turn at b between a and c as seen in the face's 2D frame (counter-clockwise there; the
+  // frame's orientation is the face's reversed when flip): exact, on the dropped coordinates.
+  auto turn = [&](int a, int b, int c) {
+    const Vec2 pa = drop(v[static_cast<size_t>(a)], fd.axis), pb = drop(v[static_cast<size_t>(b)], fd.axis),
+               pc = drop(v[static_cast<size_t>(c)], fd.axis);
+    return fd.flip ? orient2d(pc, pb, pa) : orient2d(pa, pb, pc);
   };
-  if (face.loops.size() == 1 && face.loops[0].size() == 3) {
-    // A triangle (most faces of a mesh): convex_ccw's test without building a ring (its three
-    // turns are one orientation).
-    const auto& t = face.loops[0];
-    const Vec2 a = drop(v[static_cast<size_t>(t[0])], fd.axis), b = drop(v[static_cast<size_t>(t[1])], fd.axis),
-               c = drop(v[static_cast<size_t>(t[2])], fd.axis);
-    if ((fd.flip ? orient2d(c, b, a) : orient2d(a, b, c)) != Sign::Negative) {  // as convex_ccw
-      fd.convex = true;
-      return;
-    }
-  } else if (face.loops.size() == 1 && convex_ccw(ring2d(face.loops[0]))) {
+  // Exact convexity of a loop of vertex ids, counter-clockwise in that frame (collinear
+  // vertices allowed), without building its 2D ring (a mesh has a million triangular faces).
+  auto convex_loop = [&](const std::vector<int>& ids) {
+    const size_t m = ids.size();
+    for (size_t i = 0; i < m; ++i)
+      if (turn(ids[(i + m - 1) % m], ids[i], ids[(i + 1) % m]) == Sign::Negative) return false;
+    return true;
+  };
+  if (face.loops.size() == 1 && convex_loop(face.loops[0])) {
     fd.convex = true;
     return;
   }
@@ -57,15 +47,9 @@ void convex_parts(const Body& body, int f, ShadowFace& fd) {
   std::vector<std::vector<int>> polys;
   for (const Triangle& t : body.triangles())
     if (t.face == f) polys.push_back({t.v[0], t.v[1], t.v[2]});
-  // The turn at b between a and c in ring2d's orientation (ring2d reverses when flip).
-  auto turn = [&](int a, int b, int c) {
-    const Vec2 pa = drop(v[static_cast<size_t>(a)], fd.axis), pb = drop(v[static_cast<size_t>(b)], fd.axis),
-               pc = drop(v[static_cast<size_t>(c)], fd.axis);
-    return fd.flip ? orient2d(pc, pb, pa) : orient2d(pa, pb, pc);
-  };
   const size_t n = polys.size();
   std::vector<char> alive(n, 1), convex(n, 0);
-  for (size_t k = 0; k < n; ++k) convex[k] = convex_ccw(ring2d(polys[k]));
+  for (size_t k = 0; k < n; ++k) convex[k] = convex_loop(polys[k]);
   auto edge_key = [](int a, int b) {
     return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
   };
@@ -94,7 +78,7 @@ void convex_parts(const Body& body, int f, ShadowFace& fd) {
     return count;
   };
   // Whether joining A (polygon a) and B across A's edge i gives a convex polygon; the joined
-  // ring when it does. Exactly convex_ccw of the joined ring.
+  // ring when it does. Exactly convex_loop of the joined ring.
   auto try_join = [&](size_t a, size_t i, size_t b, std::vector<int>& m) {
     const auto &A = polys[a], &B = polys[b];
     if (convex[a] && convex[b] && shared_edges(a, b) == 1) {
@@ -108,7 +92,7 @@ void convex_parts(const Body& body, int f, ShadowFace& fd) {
       return true;
     }
     m = join(A, i, B);
-    return convex_ccw(ring2d(m));
+    return convex_loop(m);
   };
   std::set<size_t> unknown;  // polygons that may still have a merge with a later one
   for (size_t k = 0; k < n; ++k) unknown.insert(k);
