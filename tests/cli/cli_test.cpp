@@ -96,6 +96,32 @@ TEST(Cli, ConvertThenInfo) {
   EXPECT_EQ(j["bodies"][0]["volume"], 8.0);
 }
 
+// The command executes itself again with glibc's huge-page tunable (cli/main.cpp,
+// use_huge_pages): the second run must see the very arguments of the first, a file name with
+// spaces and quotes included, and print what a run without the re-execution prints.
+TEST(Cli, HugePageReexecutionKeepsTheArgumentsAndTheOutput) {
+  const fs::path dir = temp_dir("huge pages");
+  const fs::path file = dir / "a 'quoted' cube.off";
+  {
+    std::ofstream f(file);
+    f << hedra::testing::cube_off_with("1 1 -1");
+  }
+  const std::string args = "info --json \"" + file.string() + "\"";
+  const char* saved = std::getenv("GLIBC_TUNABLES");
+  const std::string before = saved != nullptr ? saved : "";
+  ::unsetenv("GLIBC_TUNABLES");
+  const Result reexecuted = run(args);
+  ::setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=0", 1);
+  const Result direct = run(args);
+  if (saved != nullptr) ::setenv("GLIBC_TUNABLES", before.c_str(), 1);
+  else ::unsetenv("GLIBC_TUNABLES");
+  ASSERT_EQ(direct.code, 0) << direct.err;
+  ASSERT_EQ(reexecuted.code, 0) << reexecuted.err;
+  EXPECT_EQ(reexecuted.out, direct.out);
+  EXPECT_EQ(nlohmann::json::parse(reexecuted.out)["bodies"][0]["volume"], 8.0);
+  EXPECT_EQ(run("info --json").code, 2);  // a usage error is still a usage error
+}
+
 TEST(Cli, BadInputExitsWithThreeAndOneLine) {
   const fs::path dir = temp_dir("bad");
   hedra::testing::write_bad_files(dir);
