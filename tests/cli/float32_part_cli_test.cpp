@@ -160,4 +160,38 @@ TEST(Float32Part, RotatedStlDrawsAndShadowsLikeTheAlignedTwin) {
   fs::remove_all(dir);
 }
 
+// Regression (issue 14): a generically rotated cylinder standing on the ground, as float32 STL
+// read with --tolerance 1e-5. Its side faces are planar only within rounding after the merge, and
+// where its base sinks 1e-8 into the ground the contact is drawn as junction lines on the side
+// faces. Hidden lines used to test those junctions against the cylinder's own volume, which hid
+// them by a rounding of the face plane: 0.16 of the contact line went missing (0.44 % of the
+// drawing). A convex body cannot hide its own front faces, so its volume is no candidate now.
+TEST(Float32Part, RotatedCylinderStandingOnTheGroundKeepsItsContactLine) {
+  const fs::path dir = hedra::testing::temp_dir("float32_cylinder_standing");
+  const Eigen::Vector3d view = kRotation.transpose() * kD0, light = kRotation.transpose() * kL0;
+  auto scene = [&](const std::string& t) {
+    const std::string tr = t.empty() ? "" : ", \"transform\": [" + t + "]";
+    return R"({"name": "ground", "box": {"min": [-3, -3, -1], "max": [3, 3, 0]})" + tr +
+           R"(}, {"name": "cyl", "cylinder": {"radius": 1, "z": [0, 2], "tolerance": 0.01})" + tr + "}";
+  };
+  const std::string aligned = hedra::testing::write(
+      dir / "aligned.json", "{\"version\": 1, \"bodies\": [" + scene("") +
+                                "],\n \"camera\": {\"projection\": \"parallel\", \"direction\": " + vec(view) +
+                                ", \"up\": [0, 0, 1]},\n \"lights\": [{\"type\": \"directional\", \"direction\": " +
+                                vec(light) + "}]}");
+  const std::string rotate = "{\"rotate\": {\"axis\": " + vec(kAxis) + ", \"deg\": " + num(kDegrees) + "}}";
+  const std::string rotated =
+      hedra::testing::write(dir / "rotated.json", "{\"version\": 1, \"bodies\": [" + scene(rotate) + "]}");
+  const std::string stl = (dir / "cyl.stl").string();
+  ASSERT_EQ(run_hedra("convert " + rotated + " " + stl).code, 0);
+  const Measures want = measure(aligned, view, dir, "");
+  EXPECT_GT(want.drawn, 30);
+  for (const std::string& options : {kReadOptions, kToleranceOptions}) {
+    const Measures got = measure(stl, kD0, dir, options);
+    EXPECT_NEAR(got.drawn, want.drawn, 1e-3 * want.drawn) << options;
+    EXPECT_NEAR(got.cast, want.cast, 1e-4 * want.cast) << options;
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -161,13 +161,17 @@ void Roberts::junctions() {
         // Nearest first: a piece that hides the whole segment ends its test.
         near_first(ids, scratch);
         fill_candidates(ids, [&](const HlrPiece& o) {
-          // A convex body's own volume decides exactly (the junction lies exactly on its
-          // face's support plane); a piece of a non-convex one only if not incident.
-          // A triangle of a faceted body: any but those of the junction's own face.
+          // A convex body never hides a point of its own boundary that is not on a face turned
+          // away (those were settled above, hidden_by_own): the way to the eye leaves the body
+          // at once. So its volume is no candidate. (Testing it would rely on the junction lying
+          // exactly on the face's support plane, which a face planar only within --tolerance
+          // does not give: issue 14, a cylinder standing on a ground lost its contact line.)
+          // A piece of a non-convex body only if not incident; a triangle of a faceted body:
+          // any but those of the junction's own face.
           if (o.face >= 0 && o.body == i) return o.face != fa;
           if (o.face >= 0 && o.body == j) return o.face != fb;
-          if (o.body == i) return data_[static_cast<size_t>(i)].convex || !face_incident(o, fa, a, b);
-          if (o.body == j) return data_[static_cast<size_t>(j)].convex || !face_incident(o, fb, a, b);
+          if (o.body == i) return !data_[static_cast<size_t>(i)].convex && !face_incident(o, fa, a, b);
+          if (o.body == j) return !data_[static_cast<size_t>(j)].convex && !face_incident(o, fb, a, b);
           return true;
         }, candidates_out);
       };
