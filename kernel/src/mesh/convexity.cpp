@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
+#include <optional>
 #include <cmath>
 #include <numbers>
 #include <span>
@@ -60,64 +62,85 @@ class Certificate {
  public:
   explicit Certificate(const Body& body) : body_(body), v_(body.vertices()), faces_(body.faces()) {}
 
+  // Every stage runs in parallel over fixed chunks of kChunk faces, edges or pieces; where the
+  // sequential certificate stops at the first failure, the failure of the lowest index wins, and
+  // the winding sum adds the chunks' partial sums in chunk order, so the verdict never depends
+  // on the threads.
   Verdict run() {
     // Stage 1: the pieces. Exactly planar faces are one piece; a rounded quadrilateral is
     // split along the diagonal that makes it convex; anything else is left to the fallback.
     const int n = body_.face_count();
+    std::vector<FaceKind> kind(static_cast<size_t>(n));
+    std::atomic<bool> unknown{false};
+    for_chunks(static_cast<size_t>(n), [&](size_t begin, size_t end) {
+      for (size_t f = begin; f != end && !unknown.load(std::memory_order_relaxed); ++f) {
+        kind[f] = face_kind(static_cast<int>(f));
+        if (kind[f] == kUnknown) unknown = true;
+      }
+      return false;
+    });
+    if (unknown) return Verdict::Unknown;
     first_piece_.assign(static_cast<size_t>(n), -1);
     split_.assign(static_cast<size_t>(n), 0);
     pieces_.reserve(static_cast<size_t>(n));
     for (int f = 0; f < n; ++f) {
       const Face& face = faces_[static_cast<size_t>(f)];
-      const auto& s = body_.support(f);
       first_piece_[static_cast<size_t>(f)] = static_cast<int>(pieces_.size());
-      if (planar(face, s)) {
-        pieces_.push_back({s, f, face.loops.size() == 1 && face.loops[0].size() == 3});
+      const FaceKind k = kind[static_cast<size_t>(f)];
+      if (k == kPlanar) {
+        pieces_.push_back({body_.support(f), f, face.loops.size() == 1 && face.loops[0].size() == 3});
         continue;
       }
-      if (face.loops.size() != 1 || face.loops[0].size() != 4) return Verdict::Unknown;
       const auto& q = face.loops[0];
-      // Diagonal q0–q2 is convex when q3 is strictly inside plane (q0, q1, q2); else try q1–q3.
-      if (orient3d(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
-        split_[static_cast<size_t>(f)] = 1;
+      split_[static_cast<size_t>(f)] = k == kSplit02 ? 1 : 2;
+      if (k == kSplit02) {
         pieces_.push_back({{q[0], q[1], q[2]}, f, true});
         pieces_.push_back({{q[0], q[2], q[3]}, f, true});
-      } else if (orient3d(p(q[0]), p(q[1]), p(q[3]), p(q[2])) == Sign::Negative) {
-        split_[static_cast<size_t>(f)] = 2;
+      } else {
         pieces_.push_back({{q[0], q[1], q[3]}, f, true});
         pieces_.push_back({{q[1], q[2], q[3]}, f, true});
-      } else {
-        return Verdict::Unknown;
-      }
-      for (size_t k = pieces_.size() - 2; k < pieces_.size(); ++k) {
-        const auto& t = pieces_[k].triple;
-        if (collinear(p(t[0]), p(t[1]), p(t[2]))) return Verdict::Unknown;
       }
       rounded_.push_back(f);
     }
 
     // Stage 2: local convexity at every edge between pieces. Quadrilateral diagonals are
-    // convex by construction; the body's edges are tested here.
-    for (const Edge& e : body_.edges()) {
-      if (e.left_face == e.right_face) return Verdict::Unknown;
-      const Piece& f1 = pieces_[static_cast<size_t>(piece_of(e.left_face, e.v0, e.v1))];
-      const Piece& g1 = pieces_[static_cast<size_t>(piece_of(e.right_face, e.v1, e.v0))];
-      int w = -1;
-      bool left = true;
-      if (!witness(g1, e.v1, e.v0, w, left)) return Verdict::Unknown;
-      Sign side = orient3d(p(f1.triple[0]), p(f1.triple[1]), p(f1.triple[2]), p(w));
-      if (!left) side = -side;
-      if (side == Sign::Positive) return reflex(e.left_face, e.right_face);
-      if (side == Sign::Zero && !same_orientation(f1, g1)) return Verdict::Unknown;  // folded
-    }
+    // convex by construction; the body's edges are tested here. The first failing edge decides.
+    const auto& edges = body_.edges();
+    const size_t chunks = (edges.size() + kChunk - 1) / kChunk;
+    std::vector<char> failed(chunks, 0);
+    std::vector<Verdict> chunk_verdict(chunks, Verdict::Unknown);
+    std::atomic<size_t> first_failed{chunks};
+    parallel_for(chunks, 0, [&](size_t c) {
+      if (c > first_failed.load(std::memory_order_relaxed)) return;  // a lower chunk decides
+      const size_t end = std::min(edges.size(), (c + 1) * kChunk);
+      for (size_t i = c * kChunk; i != end; ++i) {
+        const std::optional<Verdict> v = edge_verdict(edges[i]);
+        if (!v) continue;
+        failed[c] = 1;
+        chunk_verdict[c] = *v;
+        size_t seen = first_failed.load();
+        while (c < seen && !first_failed.compare_exchange_weak(seen, c)) {
+        }
+        return;
+      }
+    });
+    for (size_t c = 0; c < chunks; ++c)
+      if (failed[c]) return chunk_verdict[c];
 
     // Stage 3: a centre strictly inside every piece's plane.
     Vec3 sum = Vec3::Zero();
     for (const Vec3& x : v_) sum += x;
     const Vec3 o = sum / static_cast<double>(v_.size());
-    for (const Piece& piece : pieces_)
-      if (orient3d(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
-        return Verdict::Unknown;
+    std::atomic<bool> outside{false};
+    for_chunks(pieces_.size(), [&](size_t begin, size_t end) {
+      for (size_t k = begin; k != end && !outside.load(std::memory_order_relaxed); ++k) {
+        const Piece& piece = pieces_[k];
+        if (orient3d(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
+          outside = true;
+      }
+      return false;
+    });
+    if (outside) return Verdict::Unknown;
 
     // Stage 4: the surface winds once around o.
     if (!winds_once(o)) return Verdict::Unknown;
@@ -127,14 +150,67 @@ class Certificate {
     // it by a local search (see rounded_face_convex).
     if (!rounded_.empty()) {
       build_incidence();
-      for (int f : rounded_)
-        if (!rounded_face_convex(f)) return Verdict::NotConvex;
+      std::atomic<bool> reflex_found{false};
+      for_chunks(rounded_.size(), [&](size_t begin, size_t end) {
+        for (size_t k = begin; k != end && !reflex_found.load(std::memory_order_relaxed); ++k)
+          if (!rounded_face_convex(rounded_[k])) reflex_found = true;
+        return false;
+      });
+      if (reflex_found) return Verdict::NotConvex;
     }
     return Verdict::Convex;
   }
 
  private:
+  static constexpr size_t kChunk = 4096;
+  enum FaceKind : char { kPlanar, kSplit02, kSplit13, kUnknown };
+
+  // f(begin, end) over the fixed chunks of [0, n), in parallel.
+  template <class F>
+  static void for_chunks(size_t n, F&& f) {
+    const size_t chunks = (n + kChunk - 1) / kChunk;
+    parallel_for(chunks, 0, [&](size_t c) { f(c * kChunk, std::min(n, (c + 1) * kChunk)); });
+  }
+
   const Vec3& p(int i) const { return v_[static_cast<size_t>(i)]; }
+
+  // Stage 1 for face f: planar, a rounded quadrilateral split along diagonal q0–q2 (q3 strictly
+  // inside plane (q0, q1, q2)) or q1–q3, or not settled here.
+  FaceKind face_kind(int f) const {
+    const Face& face = faces_[static_cast<size_t>(f)];
+    if (planar(face, body_.support(f))) return kPlanar;
+    if (face.loops.size() != 1 || face.loops[0].size() != 4) return kUnknown;
+    const auto& q = face.loops[0];
+    FaceKind k = kUnknown;
+    std::array<std::array<int, 3>, 2> t;
+    if (orient3d(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
+      k = kSplit02;
+      t = {{{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}};
+    } else if (orient3d(p(q[0]), p(q[1]), p(q[3]), p(q[2])) == Sign::Negative) {
+      k = kSplit13;
+      t = {{{q[0], q[1], q[3]}, {q[1], q[2], q[3]}}};
+    } else {
+      return kUnknown;
+    }
+    for (const auto& x : t)
+      if (collinear(p(x[0]), p(x[1]), p(x[2]))) return kUnknown;
+    return k;
+  }
+
+  // Stage 2 for one edge: nullopt when it is locally convex (or flat), else the verdict.
+  std::optional<Verdict> edge_verdict(const Edge& e) const {
+    if (e.left_face == e.right_face) return Verdict::Unknown;
+    const Piece& f1 = pieces_[static_cast<size_t>(piece_of(e.left_face, e.v0, e.v1))];
+    const Piece& g1 = pieces_[static_cast<size_t>(piece_of(e.right_face, e.v1, e.v0))];
+    int w = -1;
+    bool left = true;
+    if (!witness(g1, e.v1, e.v0, w, left)) return Verdict::Unknown;
+    Sign side = orient3d(p(f1.triple[0]), p(f1.triple[1]), p(f1.triple[2]), p(w));
+    if (!left) side = -side;
+    if (side == Sign::Positive) return reflex(e.left_face, e.right_face);
+    if (side == Sign::Zero && !same_orientation(f1, g1)) return Verdict::Unknown;  // folded
+    return std::nullopt;
+  }
 
   bool planar(const Face& face, const std::array<int, 3>& s) const {
     if (face.loops.size() == 1 && face.loops[0].size() == 3) return true;
@@ -220,32 +296,49 @@ class Certificate {
   // and d; the integer is accepted only when the bound leaves no doubt.
   bool winds_once(const Vec3& o) const {
     constexpr double kPi = 3.14159265358979323846;
-    double total = 0, error = 0;
-    auto add = [&](int ia, int ib, int ic) {
-      const Sign s = orient3d(p(ia), p(ib), p(ic), o);
-      if (s == Sign::Zero) return true;  // a fan triangle over collinear vertices
-      const Vec3 a = p(ia) - o, b = p(ib) - o, c = p(ic) - o;
-      const double la = a.norm(), lb = b.norm(), lc = c.norm();
-      const double det = a.dot(b.cross(c));
-      const double d = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-      // |det − exact| and |d − exact| ≤ 32ε·la·lb·lc (three roundings of the differences, a
-      // handful in the products and sums), so atan2 moves by at most their sum over the radius.
-      const double slack = 64 * kEpsilon * la * lb * lc;
-      const double r = std::sqrt(det * det + d * d);
-      if (!(r > 4 * slack)) return false;
-      const double omega = 2 * std::atan2(std::abs(det), d);
-      total += s == Sign::Negative ? omega : -omega;
-      error += 2 * slack / (r - slack) + 8 * kEpsilon;
-      return true;
+    struct Partial {
+      double total = 0, error = 0;
+      bool ok = true;
     };
-    for (const Piece& piece : pieces_) {
-      if (piece.triangle) {
-        if (!add(piece.triple[0], piece.triple[1], piece.triple[2])) return false;
-        continue;
+    const size_t chunks = (pieces_.size() + kChunk - 1) / kChunk;
+    std::vector<Partial> partial(chunks);
+    parallel_for(chunks, 0, [&](size_t c) {
+      Partial& part = partial[c];
+      auto add = [&](int ia, int ib, int ic) {
+        const Sign s = orient3d(p(ia), p(ib), p(ic), o);
+        if (s == Sign::Zero) return true;  // a fan triangle over collinear vertices
+        const Vec3 a = p(ia) - o, b = p(ib) - o, cc = p(ic) - o;
+        const double la = a.norm(), lb = b.norm(), lc = cc.norm();
+        const double det = a.dot(b.cross(cc));
+        const double d = la * lb * lc + a.dot(b) * lc + a.dot(cc) * lb + b.dot(cc) * la;
+        // |det − exact| and |d − exact| ≤ 32ε·la·lb·lc (three roundings of the differences, a
+        // handful in the products and sums), so atan2 moves by at most their sum over the radius.
+        const double slack = 64 * kEpsilon * la * lb * lc;
+        const double r = std::sqrt(det * det + d * d);
+        if (!(r > 4 * slack)) return false;
+        const double omega = 2 * std::atan2(std::abs(det), d);
+        part.total += s == Sign::Negative ? omega : -omega;
+        part.error += 2 * slack / (r - slack) + 8 * kEpsilon;
+        return true;
+      };
+      const size_t end = std::min(pieces_.size(), (c + 1) * kChunk);
+      for (size_t k = c * kChunk; k != end && part.ok; ++k) {
+        const Piece& piece = pieces_[k];
+        if (piece.triangle) {
+          part.ok = add(piece.triple[0], piece.triple[1], piece.triple[2]);
+          continue;
+        }
+        for (const auto& loop : faces_[static_cast<size_t>(piece.face)].loops)
+          for (size_t i = 1; i + 1 < loop.size() && part.ok; ++i) part.ok = add(loop[0], loop[i], loop[i + 1]);
       }
-      for (const auto& loop : faces_[static_cast<size_t>(piece.face)].loops)
-        for (size_t i = 1; i + 1 < loop.size(); ++i)
-          if (!add(loop[0], loop[i], loop[i + 1])) return false;
+    });
+    // The chunks' sums in chunk order: fewer additions than terms, each covered like a term's
+    // own addition by its 8ε.
+    double total = 0, error = 0;
+    for (const Partial& part : partial) {
+      if (!part.ok) return false;
+      total += part.total;
+      error += part.error;
     }
     return std::abs(total - 4 * kPi) + error < 2 * kPi;
   }
