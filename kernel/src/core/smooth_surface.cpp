@@ -114,6 +114,17 @@ Vec3 SmoothSurface::local_normal(const Vec3& q, const Vec3& c) const {
   return Vec3::Zero();
 }
 
+bool SmoothSurface::normal_needs_face(const Vec3& p) const {
+  const Vec3 q = inverse_ * (p - offset_);
+  switch (kind_) {
+    case Kind::Sphere: return !((q - centre_).norm() > 0);
+    case Kind::Cylinder:
+    case Kind::Cone: return Eigen::Vector2d(q.x(), q.y()).norm() <= 1e-12 * radius_;
+    case Kind::None: break;
+  }
+  return false;
+}
+
 Vec3 SmoothSurface::normal(const Vec3& p, const Vec3& face_centre) const {
   const Vec3 q = inverse_ * (p - offset_);
   const Vec3 c = inverse_ * (face_centre - offset_);

@@ -157,15 +157,31 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
   const CornerNormals normals(body, crease_angle_deg, surface);
   const auto& faces = body.faces();
   const auto& v = body.vertices();
-  // Centres of the analytic faces (their corner normals depend on them).
-  std::vector<Vec3> centre;
+  // The analytic normal of each vertex on a curved face, once: it is the same for every face
+  // around the vertex (the same bits) unless the surface's gradient vanishes there (a cone's
+  // apex, a cap's centre on the axis), where it depends on the face's centre and is computed
+  // per corner. `regular`: 1 cached, 2 per corner, 0 on no curved face.
+  std::vector<char> regular;
+  std::vector<Vec3> vertex_normal;
   if (surface.is_smooth()) {
-    centre.assign(faces.size(), Vec3::Zero());
-    for (size_t f = 0; f < faces.size(); ++f)
-      if (normals.analytic(static_cast<int>(f))) centre[f] = face_centre(body, static_cast<int>(f));
+    regular.assign(v.size(), 0);
+    vertex_normal.assign(v.size(), Vec3::Zero());
+    for (size_t f = 0; f < faces.size(); ++f) {
+      if (!normals.analytic(static_cast<int>(f))) continue;
+      for (const auto& loop : faces[f].loops)
+        for (int x : loop) {
+          char& r = regular[static_cast<size_t>(x)];
+          if (r != 0) continue;
+          const Vec3& p = v[static_cast<size_t>(x)];
+          r = surface.normal_needs_face(p) ? 2 : 1;
+          if (r == 1) vertex_normal[static_cast<size_t>(x)] = surface.normal(p, Vec3::Zero());
+        }
+    }
   }
   const auto corner_normal = [&](int f, int x) {
-    return normals.normal(f, x, centre.empty() ? Vec3::Zero() : centre[static_cast<size_t>(f)]);
+    if (!normals.analytic(f)) return normals.normal(f, x, Vec3::Zero());
+    if (regular[static_cast<size_t>(x)] == 1) return vertex_normal[static_cast<size_t>(x)];
+    return normals.normal(f, x, face_centre(body, f));
   };
 
   // Singular points of the analytic surface (a cone's apex): the curved faces around the
@@ -180,6 +196,7 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
       if (!normals.analytic(static_cast<int>(f))) continue;
       for (const auto& loop : faces[f].loops)
         for (int x : loop) {
+          if (regular[static_cast<size_t>(x)] == 1) continue;  // one normal for all its faces
           const Vec3 n = corner_normal(static_cast<int>(f), x);
           const size_t i = static_cast<size_t>(x);
           if (!seen[i]) seen[i] = 1, first[i] = n;
@@ -193,6 +210,13 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
   for (size_t x = 0; x < v.size(); ++x)
     if (normals.shared(static_cast<int>(x)) && !singular[x])
       shared_g[x] = normals.shared_normal(static_cast<int>(x)).dot(view.ray_to(v[x]));
+  // And at the vertices with a cached analytic normal.
+  std::vector<double> analytic_g;
+  if (surface.is_smooth()) {
+    analytic_g.assign(v.size(), 0);
+    for (size_t x = 0; x < v.size(); ++x)
+      if (regular[x] == 1) analytic_g[x] = vertex_normal[x].dot(view.ray_to(v[x]));
+  }
 
   std::vector<OutlineSegment> out;
   for (const Triangle& t : body.triangles()) {
@@ -206,6 +230,16 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
         positive += shared_g[x] >= 0;
       }
       if (all_shared && (positive == 0 || positive == 3)) continue;
+    } else {
+      // Three cached analytic corners of one sign: the same test as below, without the normals.
+      int positive = 0;
+      bool cached = true;
+      for (int k = 0; k < 3 && cached; ++k) {
+        const size_t x = static_cast<size_t>(t.v[k]);
+        cached = regular[x] == 1;
+        positive += analytic_g[x] >= 0;
+      }
+      if (cached && (positive == 0 || positive == 3)) continue;
     }
     // A flat-shaded triangle (every corner on the face's own normal) has n·r of one sign in
     // exact arithmetic, the sign facing() decides; rounding must not make a contour there

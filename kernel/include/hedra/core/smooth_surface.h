@@ -49,6 +49,11 @@ class SmoothSurface {
   /// gradient vanishes: at the apex of a cone, on the axis of a cylinder). Cost O(1).
   Vec3 normal(const Vec3& p, const Vec3& face_centre) const;
 
+  /// Whether normal(p, c) depends on the face centre c (p at a sphere's centre, on a cylinder's
+  /// or cone's axis). Where it does not, every face around p gets the same normal, bit for bit.
+  /// Cost O(1).
+  bool normal_needs_face(const Vec3& p) const;
+
  private:
   // Local (primitive) normal at local point q.
   Vec3 local_normal(const Vec3& q, const Vec3& local_face_centre) const;

@@ -111,13 +111,13 @@ struct HlrOptions {
 struct HlrStats {
   int bodies = 0;
   int pieces = 0;             // convex pieces (a convex body is one)
-  int edges = 0;              // drawable edges: not between coplanar faces, not seen end-on
+  int edges = 0;              // drawable sharp edges: not between coplanar faces, not seen end-on
   int back_edges = 0;         // removed whole by stage 1
   long long occlusion_tests = 0;  // edge × piece clips in stage 2
   int exact_segments = 0;     // segments in an edge-on internal cut plane (rational path)
   int junction_segments = 0;  // junction segments before visibility
   int grid_cells = 0;
-  int smooth_edges = 0;       // edges classified smooth (drawn only with HlrOptions::smooth)
+  int smooth_edges = 0;       // edges classified smooth, all of them (drawn only with HlrOptions::smooth)
   int outline_segments = 0;   // outline segments before visibility
 };
 
