@@ -187,6 +187,19 @@ Sides split_or_retry(const Context& ctx, const Piece& piece, const std::vector<R
   throw InternalError(first_error);
 }
 
+// The body with each face loop starting at its smallest vertex and the faces sorted: the same
+// body whatever order its faces were found in (merged coplanar hull triangles start their loop
+// at whichever triangle came first).
+Body canonical_faces(const Body& body) {
+  std::vector<Face> faces = body.faces();
+  for (Face& face : faces) {
+    for (auto& loop : face.loops) std::rotate(loop.begin(), std::min_element(loop.begin(), loop.end()), loop.end());
+    if (face.loops.size() > 2) std::sort(face.loops.begin() + 1, face.loops.end());  // holes
+  }
+  std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.loops < b.loops; });
+  return Body(body.vertices(), std::move(faces));
+}
+
 // A convex piece with double coordinates, never failing on a valid piece. First the exact
 // piece rounded with its faces merged by canonical plane (body_of). Where rounding breaks that
 // (a face a few 1e-9 wide is tilted by rounding, a sliver corner thinner than an ulp
@@ -204,8 +217,10 @@ std::optional<Body> rounded_piece(const Piece& piece) {
   } catch (const InvalidInput&) {
   }
   std::vector<P3> coords;
-  for (const Point& p : piece.pts)
-    coords.emplace_back(CGAL::to_double(p.p.x()), CGAL::to_double(p.p.y()), CGAL::to_double(p.p.z()));
+  for (const Point& p : piece.pts) {
+    const Vec3 r = rounded(p.p);
+    coords.emplace_back(r.x(), r.y(), r.z());
+  }
   std::sort(coords.begin(), coords.end());
   coords.erase(std::unique(coords.begin(), coords.end()), coords.end());
   // A hull face can itself be a sliver (three rounded corners in a line within an ulp) whose
@@ -222,25 +237,37 @@ std::optional<Body> rounded_piece(const Piece& piece) {
     if (!solid) return std::nullopt;
     CGAL::Surface_mesh<P3> hull;
     CGAL::convex_hull_3(coords.begin(), coords.end(), hull);
+    // CGAL's quickhull orders its work by vertex addresses (a std::map of handles), so the
+    // order of the hull's vertices and triangles, and among exactly coplanar points its
+    // triangles themselves, change with the memory layout: with the threads, from run to run.
+    // The soup is made canonical: the vertices in exact lexicographic order, each triangle
+    // from its smallest vertex, the triangles sorted; and the body's faces likewise below.
+    std::vector<P3> corners;
+    for (auto v : hull.vertices()) corners.push_back(hull.point(v));
+    std::sort(corners.begin(), corners.end());
     PolygonSoup soup;
-    std::map<CGAL::Surface_mesh<P3>::Vertex_index, int> index;
-    for (auto v : hull.vertices()) {
-      index[v] = static_cast<int>(soup.vertices.size());
-      const P3& p = hull.point(v);
+    for (const P3& p : corners)
       soup.vertices.emplace_back(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
+    std::vector<std::array<int, 3>> triangles;
+    for (auto f : hull.faces()) {
+      std::array<int, 3> tri{};
+      int k = 0;
+      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull))
+        tri[static_cast<size_t>(k++)] = static_cast<int>(
+            std::lower_bound(corners.begin(), corners.end(), hull.point(v)) - corners.begin());
+      std::rotate(tri.begin(), std::min_element(tri.begin(), tri.end()), tri.end());
+      triangles.push_back(tri);
     }
+    std::sort(triangles.begin(), triangles.end());
     // Plane of every hull triangle by exact comparison; a flat triangle (a point kept on a
     // hull edge) takes the plane of a neighbour and vanishes in its face.
     std::vector<PL> planes;
     std::vector<int> ids;
     std::map<std::pair<int, int>, size_t> edge_owner;
-    for (auto f : hull.faces()) {
-      std::vector<int> tri;
-      std::vector<P3> pts;
-      for (auto v : CGAL::vertices_around_face(hull.halfedge(f), hull)) {
-        tri.push_back(index[v]);
-        pts.push_back(hull.point(v));
-      }
+    for (const std::array<int, 3>& t : triangles) {
+      const std::vector<int> tri(t.begin(), t.end());
+      const std::vector<P3> pts = {corners[static_cast<size_t>(t[0])], corners[static_cast<size_t>(t[1])],
+                                   corners[static_cast<size_t>(t[2])]};
       int id = -1;
       if (!CGAL::collinear(pts[0], pts[1], pts[2])) {
         const PL plane(pts[0], pts[1], pts[2]);
@@ -268,7 +295,7 @@ std::optional<Body> rounded_piece(const Piece& piece) {
     }
     try {
       std::vector<Body> bodies = bodies_from_soup(soup, ids);
-      if (bodies.size() == 1 && is_convex(bodies[0])) return bodies[0];
+      if (bodies.size() == 1 && is_convex(bodies[0])) return canonical_faces(bodies[0]);
     } catch (const InvalidInput&) {
     }
     // The thinnest non-flat hull triangle (area over squared longest edge) loses the corner
@@ -413,12 +440,8 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
   std::vector<int> plane(n, -1);
   std::vector<Vec3> normal(n);
   double scale = 0;
-  for (const Point& p : pts)
-    scale = std::max(scale, std::abs(CGAL::to_double(p.p.x())) + std::abs(CGAL::to_double(p.p.y())) +
-                                std::abs(CGAL::to_double(p.p.z())));
-  auto d = [](const P3& p) {
-    return Vec3(CGAL::to_double(p.x()), CGAL::to_double(p.y()), CGAL::to_double(p.z()));
-  };
+  for (const Point& p : pts) scale = std::max(scale, rounded(p.p).cwiseAbs().sum());
+  auto d = [](const P3& p) { return rounded(p); };
   for (size_t t = 0; t < n; ++t) {
     const auto& v = tris[t];
     for (const auto& [id, sgn] : planes)

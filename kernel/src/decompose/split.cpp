@@ -296,7 +296,7 @@ template <class Tr>
 std::vector<std::array<int, 3>> fill_region(const Context& ctx, int plane, const std::vector<Point>& pts,
                                             const std::vector<std::pair<int, int>>& segments) {
   const EK::Vector_3 n = ctx.planes[plane].orthogonal_vector();
-  const Vec3 approx(CGAL::to_double(n.x()), CGAL::to_double(n.y()), CGAL::to_double(n.z()));
+  const Vec3 approx = Vec3(rounded(n.x()), rounded(n.y()), rounded(n.z()));  // the same axis every run
   int axis;
   approx.cwiseAbs().maxCoeff(&axis);
   int u = (axis + 1) % 3, w = (axis + 2) % 3;
@@ -782,9 +782,7 @@ void simplify(const Context& ctx, Piece& piece) {
 
 Body body_of(const Piece& piece) {
   PolygonSoup soup;
-  for (const Point& p : piece.pts)
-    soup.vertices.emplace_back(CGAL::to_double(p.p.x()), CGAL::to_double(p.p.y()),
-                               CGAL::to_double(p.p.z()));
+  for (const Point& p : piece.pts) soup.vertices.push_back(rounded(p.p));
   std::vector<int> ids;
   for (const Tri& t : piece.tris) {
     soup.polygons.push_back({t.v[0], t.v[1], t.v[2]});

@@ -66,6 +66,20 @@ struct Piece {
   std::vector<Tri> tris;
 };
 
+// A lazy exact number rounded to a double, the same whatever was evaluated before. CGAL's
+// to_double reads a lazy number's interval, which is tight only once the exact value has been
+// computed: by an earlier decision, or by another thread on a point its piece shares with ours
+// (the pieces of a round run in parallel and share their cut points). Reading the loose
+// interval made the rounded pieces, and so the drawings made with them, change in the last
+// bit from run to run. So the exact value is computed first, unless the interval is a point.
+inline double rounded(const EK::FT& x) {
+  const std::pair<double, double> i = CGAL::to_interval(x);
+  if (i.first == i.second) return i.first;
+  CGAL::exact(x);
+  return CGAL::to_double(x);
+}
+inline Vec3 rounded(const P3& p) { return Vec3(rounded(p.x()), rounded(p.y()), rounded(p.z())); }
+
 inline std::uint64_t key(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
          static_cast<std::uint32_t>(b);
