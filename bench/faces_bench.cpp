@@ -5,7 +5,10 @@
 //  - OCCT: `HLRBRep_PolyAlgo` on the same analytic shapes meshed by `BRepMesh_IncrementalMesh`
 //    at linear deflection t (the same chordal tolerance); the meshing time is reported apart
 //    (counter mesh_ms) and not timed, like hedra's tessellation; t ≤ 1e-4 only (see
-//    occt_tolerances).
+//    occt_tolerances);
+//  - OCCT: the exact `HLRBRep_Algo` on the analytic shapes (no meshing), whose drawn 2D length
+//    (visible sharp edges and outlines) is the reference for hedra's at every t (counter
+//    drawn_2d on both sides).
 // The whole-process half (info, hlr, shadows, render: CPU time and peak memory per face, and a
 // 1 M-triangle mesh file) is scripts/faces_scaling.py; scripts/faces_report.py writes the
 // "Faces scaling" section of docs/benchmarks.md from both.
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "hedra/core/primitives.h"
+#include "hedra/core/smooth_surface.h"
 #include "hedra/core/transform.h"
 #include "hedra/visibility/roberts.h"
 
@@ -39,6 +43,8 @@
 #include <Geom_SphericalSurface.hxx>
 #include <GProp_GProps.hxx>
 #include <HLRAlgo_Projector.hxx>
+#include <HLRBRep_Algo.hxx>
+#include <HLRBRep_HLRToShape.hxx>
 #include <HLRBRep_PolyAlgo.hxx>
 #include <HLRBRep_PolyHLRToShape.hxx>
 #include <TopoDS.hxx>
@@ -66,19 +72,31 @@ std::vector<Body> hedra_scene(double t) {
           cylinder(kCanRadius, 0, kCanHeight, t, kMaxFaces).transformed(Transform::translation(kCanAt))};
 }
 
+// The analytic surfaces, as `hedra hlr` gives them for a scene's primitives (outlines from the
+// true normals).
+std::vector<SmoothSurface> hedra_surfaces() {
+  return {SmoothSurface(), SmoothSurface::sphere(kBallCentre, kBallRadius),
+          SmoothSurface::cylinder(kCanRadius, 0, kCanHeight).transformed(Transform::translation(kCanAt))};
+}
+
 const Camera kCamera = Camera::parallel({-1, -1, -1});
+
+// Visible sharp edges and outlines, in the picture plane.
+double drawn_2d(const HlrResult& r) { return r.picture_length(LineKind::Edge) + r.picture_length(LineKind::Outline); }
 
 void BM_FacesHedraHlr(benchmark::State& state) {
   const std::vector<Body> bodies = hedra_scene(tolerance_of(state));
+  const std::vector<SmoothSurface> surfaces = hedra_surfaces();
   long faces = 0;
   for (const Body& b : bodies) faces += b.face_count();
   HlrResult r;
   for (auto _ : state) {
-    r = hidden_lines(bodies, kCamera);
+    r = hidden_lines(bodies, surfaces, kCamera);
     benchmark::DoNotOptimize(r.visible.data());
   }
   state.counters["faces"] = static_cast<double>(faces);
   state.counters["visible_length"] = r.length(LineKind::Edge);
+  state.counters["drawn_2d"] = drawn_2d(r);
 }
 
 // The first call on freshly built bodies: hidden_lines decides each body's convexity once and
@@ -86,6 +104,7 @@ void BM_FacesHedraHlr(benchmark::State& state) {
 // without it. The bodies are rebuilt outside the timed region.
 void BM_FacesHedraHlrFirst(benchmark::State& state) {
   const double t = tolerance_of(state);
+  const std::vector<SmoothSurface> surfaces = hedra_surfaces();
   long faces = 0;
   HlrResult r;
   for (auto _ : state) {
@@ -94,7 +113,7 @@ void BM_FacesHedraHlrFirst(benchmark::State& state) {
     faces = 0;
     for (const Body& b : bodies) faces += b.face_count();
     state.ResumeTiming();
-    r = hidden_lines(bodies, kCamera);
+    r = hidden_lines(bodies, surfaces, kCamera);
     benchmark::DoNotOptimize(r.visible.data());
     state.PauseTiming();
     bodies.clear();  // freed outside the timed region
@@ -102,6 +121,7 @@ void BM_FacesHedraHlrFirst(benchmark::State& state) {
   }
   state.counters["faces"] = static_cast<double>(faces);
   state.counters["visible_length"] = r.length(LineKind::Edge);
+  state.counters["drawn_2d"] = drawn_2d(r);
 }
 
 #if HEDRA_HAVE_OCCT
@@ -203,6 +223,33 @@ void BM_FacesOcctPoly(benchmark::State& state) {
   state.counters["mesh_ms"] = mesh_ms;
   state.counters["visible_length_2d"] = length;
 }
+
+// The exact HLRBRep_Algo on the analytic shapes: no tolerance, no meshing.
+void BM_FacesOcctExact(benchmark::State& state) {
+  const TopoDS_Compound c = occt_scene();
+  double length = 0;
+  Handle(HLRBRep_Algo) algo;
+  TopoDS_Shape visible, outline;
+  for (auto _ : state) {
+    state.PauseTiming();
+    visible.Nullify();
+    outline.Nullify();
+    algo.Nullify();
+    state.ResumeTiming();
+    algo = new HLRBRep_Algo();
+    algo->Add(c);
+    algo->Projector(occt_projector());
+    algo->Update();
+    algo->Hide();
+    HLRBRep_HLRToShape out(algo);
+    visible = out.VCompound();
+    outline = out.OutLineVCompound();
+    state.PauseTiming();
+    length = occt_length(visible) + occt_length(outline);
+    state.ResumeTiming();
+  }
+  state.counters["drawn_2d"] = length;
+}
 #endif
 
 void tolerances(benchmark::internal::Benchmark* b) {
@@ -223,6 +270,7 @@ BENCHMARK(BM_FacesHedraHlr)->Apply(tolerances)->UseRealTime()->Unit(benchmark::k
 BENCHMARK(BM_FacesHedraHlrFirst)->Apply(tolerances)->UseRealTime()->Unit(benchmark::kMillisecond);
 #if HEDRA_HAVE_OCCT
 BENCHMARK(BM_FacesOcctPoly)->Apply(occt_tolerances)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FacesOcctExact)->UseRealTime()->Unit(benchmark::kMillisecond);
 #endif
 
 BENCHMARK_MAIN();

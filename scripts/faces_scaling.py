@@ -28,8 +28,8 @@ SLAB = {"name": "slab", "box": {"min": [-4, -4, -0.5], "max": [4, 4, 0]}}
 MAX_FACES = 2000000
 TIMEOUT_S = 900
 # The triangulated sphere is not exactly convex (its quads are planar only within rounding, so
-# many diagonals are a few ulps reflex): every command decomposes it, which takes far
-# longer than the run can wait (issue 15), so each of its commands gets this long.
+# many diagonals are a few ulps reflex); it occludes by its faces, and each command on it gets
+# this long.
 MESH_TIMEOUT_S = 120
 
 

@@ -6,6 +6,14 @@
 # `run-bench.sh --perturbation BUILD`: only the perturbation study of decompose_bench, which
 # rewrites only that section of docs/benchmarks.md and its chart.
 set -euo pipefail
+# Huge pages for every benchmark process, hedra's and its peers' alike: the hedra command sets
+# glibc's tunable for itself (cli/main.cpp, use_huge_pages), the benchmark binaries get it here.
+# GLIBC_TUNABLES=glibc.malloc.hugetlb=0 in the environment keeps 4 KB pages.
+case "${GLIBC_TUNABLES:-}" in
+  *glibc.malloc.hugetlb*) ;;
+  "") export GLIBC_TUNABLES=glibc.malloc.hugetlb=1 ;;
+  *) export GLIBC_TUNABLES="$GLIBC_TUNABLES:glibc.malloc.hugetlb=1" ;;
+esac
 if [ "${1:-}" = "--perturbation" ]; then
   build=${2:-build-bench}
   mkdir -p "$build/results-perturbation"
