@@ -77,7 +77,6 @@ class Certificate {
         kind[f] = face_kind(static_cast<int>(f));
         if (kind[f] == kUnknown) unknown = true;
       }
-      return false;
     });
     if (unknown) return Verdict::Unknown;
     first_piece_.assign(static_cast<size_t>(n), -1);
@@ -138,7 +137,6 @@ class Certificate {
         if (orient3d(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
           outside = true;
       }
-      return false;
     });
     if (outside) return Verdict::Unknown;
 
@@ -154,7 +152,6 @@ class Certificate {
       for_chunks(rounded_.size(), [&](size_t begin, size_t end) {
         for (size_t k = begin; k != end && !reflex_found.load(std::memory_order_relaxed); ++k)
           if (!rounded_face_convex(rounded_[k])) reflex_found = true;
-        return false;
       });
       if (reflex_found) return Verdict::NotConvex;
     }
