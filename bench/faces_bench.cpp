@@ -32,24 +32,18 @@
 // packages lack (NCollection_AliasedArray.hxx).
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeShell.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
-#include <BRepGProp.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
-#include <GProp_GProps.hxx>
-#include <HLRAlgo_Projector.hxx>
-#include <HLRBRep_Algo.hxx>
-#include <HLRBRep_HLRToShape.hxx>
-#include <HLRBRep_PolyAlgo.hxx>
-#include <HLRBRep_PolyHLRToShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Builder.hxx>
 #include <TopoDS_Compound.hxx>
+
+#include "occt_hlr.h"
 #endif
 
 namespace {
@@ -125,20 +119,6 @@ void BM_FacesHedraHlrFirst(benchmark::State& state) {
 }
 
 #if HEDRA_HAVE_OCCT
-TopoDS_Shape occt_box(const Vec3& lo, const Vec3& hi) {
-  gp_Pnt p[8];
-  for (int i = 0; i < 8; ++i)
-    p[i] = gp_Pnt(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  const int f[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  BRepBuilderAPI_Sewing sew;
-  for (const auto& q : f) {
-    BRepBuilderAPI_MakePolygon poly(p[q[0]], p[q[1]], p[q[2]], p[q[3]], Standard_True);
-    sew.Add(BRepBuilderAPI_MakeFace(poly.Wire(), Standard_True).Face());
-  }
-  sew.Perform();
-  return BRepBuilderAPI_MakeSolid(TopoDS::Shell(sew.SewedShape())).Solid();
-}
-
 TopoDS_Shape occt_sphere() {
   const Handle(Geom_SphericalSurface) s = new Geom_SphericalSurface(
       gp_Ax3(gp_Pnt(kBallCentre.x(), kBallCentre.y(), kBallCentre.z()), gp::DZ()), kBallRadius);
@@ -163,32 +143,17 @@ TopoDS_Compound occt_scene() {
   TopoDS_Builder builder;
   TopoDS_Compound c;
   builder.MakeCompound(c);
-  builder.Add(c, occt_box(kSlabMin, kSlabMax));
+  builder.Add(c, bench::occt_box(kSlabMin, kSlabMax));
   builder.Add(c, occt_sphere());
   builder.Add(c, occt_cylinder());
   return c;
-}
-
-double occt_length(const TopoDS_Shape& shape) {
-  if (shape.IsNull()) return 0;
-  GProp_GProps props;
-  BRepGProp::LinearProperties(shape, props);
-  return props.Mass();
-}
-
-HLRAlgo_Projector occt_projector() {
-  const PictureProjection proj(kCamera);
-  const Vec3 z = -proj.axis(), x = proj.right();
-  return HLRAlgo_Projector(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(z.x(), z.y(), z.z()), gp_Dir(x.x(), x.y(), x.z())));
 }
 
 void BM_FacesOcctPoly(benchmark::State& state) {
   const double t = tolerance_of(state);
   double length = 0, mesh_ms = 0;
   TopoDS_Compound c;
-  Handle(HLRBRep_PolyAlgo) algo;
-  std::optional<HLRBRep_PolyHLRToShape> out;
-  TopoDS_Shape visible, outline;
+  bench::OcctLines lines;
   // Meshed once per tolerance (OCCT's meshing takes 26 s at 1e-4 on the development machine);
   // every iteration runs the HLR on the same triangulation.
   static std::map<int, std::pair<TopoDS_Compound, double>> meshed;
@@ -204,20 +169,11 @@ void BM_FacesOcctPoly(benchmark::State& state) {
   mesh_ms = it->second.second;
   for (auto _ : state) {
     state.PauseTiming();
-    visible.Nullify();
-    outline.Nullify();
-    out.reset();
-    algo.Nullify();
+    lines.clear();
     state.ResumeTiming();
-    algo = new HLRBRep_PolyAlgo(c);
-    algo->Projector(occt_projector());
-    algo->Update();
-    out.emplace();
-    out->Update(algo);
-    visible = out->VCompound();
-    outline = out->OutLineVCompound();
+    bench::occt_poly_lines(c, kCamera, lines);
     state.PauseTiming();
-    length = occt_length(visible) + occt_length(outline);
+    length = lines.length();
     state.ResumeTiming();
   }
   state.counters["mesh_ms"] = mesh_ms;
@@ -228,24 +184,14 @@ void BM_FacesOcctPoly(benchmark::State& state) {
 void BM_FacesOcctExact(benchmark::State& state) {
   const TopoDS_Compound c = occt_scene();
   double length = 0;
-  Handle(HLRBRep_Algo) algo;
-  TopoDS_Shape visible, outline;
+  bench::OcctLines lines;
   for (auto _ : state) {
     state.PauseTiming();
-    visible.Nullify();
-    outline.Nullify();
-    algo.Nullify();
+    lines.clear();
     state.ResumeTiming();
-    algo = new HLRBRep_Algo();
-    algo->Add(c);
-    algo->Projector(occt_projector());
-    algo->Update();
-    algo->Hide();
-    HLRBRep_HLRToShape out(algo);
-    visible = out.VCompound();
-    outline = out.OutLineVCompound();
+    bench::occt_exact_lines(c, kCamera, lines);
     state.PauseTiming();
-    length = occt_length(visible) + occt_length(outline);
+    length = lines.length();
     state.ResumeTiming();
   }
   state.counters["drawn_2d"] = length;

@@ -32,20 +32,14 @@
 
 #if HEDRA_HAVE_OCCT
 #include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
-#include <BRepGProp.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
-#include <GProp_GProps.hxx>
-#include <HLRAlgo_Projector.hxx>
-#include <HLRBRep_Algo.hxx>
-#include <HLRBRep_HLRToShape.hxx>
-#include <HLRBRep_PolyAlgo.hxx>
-#include <HLRBRep_PolyHLRToShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Builder.hxx>
 #include <TopoDS_Compound.hxx>
+
+#include "occt_hlr.h"
 #endif
 
 namespace {
@@ -191,40 +185,12 @@ void BM_ZBuffer(benchmark::State& state) {
 #if HEDRA_HAVE_OCCT
 // ---- OCCT ----
 
-TopoDS_Shape occt_box(const BoxSpec& b) {
-  gp_Pnt p[8];
-  for (int i = 0; i < 8; ++i)
-    p[i] = gp_Pnt(i & 1 ? b.max.x() : b.min.x(), i & 2 ? b.max.y() : b.min.y(), i & 4 ? b.max.z() : b.min.z());
-  const int f[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  BRepBuilderAPI_Sewing sew;
-  for (const auto& q : f) {
-    BRepBuilderAPI_MakePolygon poly(p[q[0]], p[q[1]], p[q[2]], p[q[3]], Standard_True);
-    sew.Add(BRepBuilderAPI_MakeFace(poly.Wire(), Standard_True).Face());
-  }
-  sew.Perform();
-  return BRepBuilderAPI_MakeSolid(TopoDS::Shell(sew.SewedShape())).Solid();
-}
-
 TopoDS_Compound occt_scene(const BenchScene& s) {
   TopoDS_Builder builder;
   TopoDS_Compound c;
   builder.MakeCompound(c);
-  for (const BoxSpec& b : s.boxes) builder.Add(c, occt_box(b));
+  for (const BoxSpec& b : s.boxes) builder.Add(c, bench::occt_box(b.min, b.max));
   return c;
-}
-
-double occt_length(const TopoDS_Shape& shape) {
-  if (shape.IsNull()) return 0;
-  GProp_GProps props;
-  BRepGProp::LinearProperties(shape, props);
-  return props.Mass();
-}
-
-HLRAlgo_Projector occt_projector(const Camera& camera) {
-  // Parallel only: the projection plane's normal points to the viewer, x along hedra's `right`.
-  const PictureProjection proj(camera);
-  const Vec3 z = -proj.axis(), x = proj.right();
-  return HLRAlgo_Projector(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(z.x(), z.y(), z.z()), gp_Dir(x.x(), x.y(), x.z())));
 }
 
 void BM_OcctPoly(benchmark::State& state) {
@@ -234,29 +200,18 @@ void BM_OcctPoly(benchmark::State& state) {
   // Built and destroyed outside the timed part: scene, meshing, and the previous iteration's
   // results.
   TopoDS_Compound c;
-  Handle(HLRBRep_PolyAlgo) algo;
-  std::optional<HLRBRep_PolyHLRToShape> out;
-  TopoDS_Shape visible, outline;
+  bench::OcctLines lines;
   for (auto _ : state) {
     state.PauseTiming();
-    visible.Nullify();
-    outline.Nullify();
-    out.reset();
-    algo.Nullify();
+    lines.clear();
     c = occt_scene(s);
     const auto t0 = std::chrono::steady_clock::now();
     BRepMesh_IncrementalMesh mesh(c, 0.1);
     mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     state.ResumeTiming();
-    algo = new HLRBRep_PolyAlgo(c);
-    algo->Projector(occt_projector(s.camera));
-    algo->Update();
-    out.emplace();
-    out->Update(algo);
-    visible = out->VCompound();
-    outline = out->OutLineVCompound();
+    bench::occt_poly_lines(c, s.camera, lines);
     state.PauseTiming();
-    length = occt_length(visible) + occt_length(outline);
+    length = lines.length();
     state.ResumeTiming();
   }
   const double hedra = length_2d(hidden_lines(s.bodies, s.camera));
@@ -270,27 +225,15 @@ void BM_OcctAlgo(benchmark::State& state) {
   const BenchScene& s = scene(kind, n, false);
   double length = 0;
   TopoDS_Compound c;
-  Handle(HLRBRep_Algo) algo;
-  TopoDS_Shape visible, outline;
+  bench::OcctLines lines;
   for (auto _ : state) {
     state.PauseTiming();
-    visible.Nullify();
-    outline.Nullify();
-    algo.Nullify();
+    lines.clear();
     c = occt_scene(s);
     state.ResumeTiming();
-    algo = new HLRBRep_Algo();
-    algo->Add(c);
-    algo->Projector(occt_projector(s.camera));
-    algo->Update();
-    algo->Hide();
-    {
-      HLRBRep_HLRToShape out(algo);
-      visible = out.VCompound();
-      outline = out.OutLineVCompound();
-    }
+    bench::occt_exact_lines(c, s.camera, lines);
     state.PauseTiming();
-    length = occt_length(visible) + occt_length(outline);
+    length = lines.length();
     state.ResumeTiming();
   }
   const double hedra = length_2d(hidden_lines(s.bodies, s.camera));

@@ -441,7 +441,6 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
   std::vector<Vec3> normal(n);
   double scale = 0;
   for (const Point& p : pts) scale = std::max(scale, rounded(p.p).cwiseAbs().sum());
-  auto d = [](const P3& p) { return rounded(p); };
   for (size_t t = 0; t < n; ++t) {
     const auto& v = tris[t];
     for (const auto& [id, sgn] : planes)
@@ -450,7 +449,7 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
     std::sort(candidates[t].begin(), candidates[t].end());
     candidates[t].erase(std::unique(candidates[t].begin(), candidates[t].end()), candidates[t].end());
     HEDRA_ASSERT(!candidates[t].empty(), "decompose: a merged face lies on no face plane");
-    normal[t] = (d(pts[v[1]].p) - d(pts[v[0]].p)).cross(d(pts[v[2]].p) - d(pts[v[0]].p));
+    normal[t] = (rounded(pts[v[1]].p) - rounded(pts[v[0]].p)).cross(rounded(pts[v[2]].p) - rounded(pts[v[0]].p));
     const bool thin = normal[t].norm() <= 1e-6 * scale * scale;
     if (candidates[t].size() == 1) {
       plane[t] = candidates[t][0];
