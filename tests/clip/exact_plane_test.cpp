@@ -50,6 +50,57 @@ TEST(ExactPlane, ValueStaysWithinItsBound) {
   }
 }
 
+// The double form of a plane through three points is built in double with a static bound on
+// its rounding (no interval arithmetic): the bound must hold, and every sign stay exact, where
+// that rounding is largest: slivers whose normal is below the rounding of its products, small
+// triangles far from the origin (k cancels), planes through a direction, and points exactly on
+// the plane.
+TEST(ExactPlane, SliversFarPlanesAndDirectionPlanesStayExact) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int bounded = 0, zero_normals = 0;
+  for (int k = 0; k < 600; ++k) {
+    const double offset = std::pow(10.0, k % 7 * 2 - 2), size = std::pow(10.0, -(k % 5));
+    const Vec3 a = offset * Vec3(u(rng), u(rng), u(rng));
+    const Vec3 d = size * Vec3(u(rng), u(rng), u(rng));
+    Vec3 c = a + 2 * d;
+    c[k % 3] = std::nextafter(c[k % 3], k % 2 ? 1e300 : -1e300);  // a sliver, a few ulps off
+    if (k % 4 == 3) c += size * 1e-3 * Vec3(u(rng), u(rng), u(rng));  // thin, not a sliver
+    const Vec3 b = a + d;
+    if (collinear(a, b, c)) continue;
+    const ExactPlane f =
+        k % 6 == 5 ? ExactPlane::through_direction(a, b, c - b) : ExactPlane::through(a, b, c);
+    if (f.normal().isZero()) ++zero_normals;
+    const Vec3 far = a + offset * 1e3 * Vec3(u(rng), u(rng), u(rng));
+    const Rational ratio_at_far = testing::exact_value(f, far);
+    const bool well_scaled = std::abs(f.value(far)) > 1e3 * f.error_bound(far.cwiseAbs().maxCoeff());
+    const double two_power =
+        well_scaled ? std::exp2(std::round(std::log2(testing::to_double(ratio_at_far / Rational(f.value(far))))))
+                    : 0;
+    for (int i = 0; i < 60; ++i) {
+      Vec3 p = a + u(rng) * (b - a) + u(rng) * (c - a);  // near the plane
+      if (i % 3 == 1) p[i % 3] = std::nextafter(p[i % 3], 1e300);
+      if (i % 3 == 2) p = i % 2 ? b : c;
+      const Rational exact = testing::exact_value(f, p);
+      EXPECT_EQ(side_of_plane(f, p), sign_of(exact)) << k << " " << i;
+      if (well_scaled) {
+        const double m = p.cwiseAbs().maxCoeff();
+        EXPECT_LE(testing::to_double(CGAL::abs(Rational(f.value(p)) - exact / Rational(two_power))),
+                  f.error_bound(m));
+        ++bounded;
+      }
+    }
+  }
+  EXPECT_GT(bounded, 10000);
+  // Points exactly on a plane through integer points, far from the origin: Zero.
+  const Vec3 a(1e9 + 3, -2e9 + 7, 5e8 + 1), b = a + Vec3(5, 1, -3), c = a + Vec3(-2, 7, 4);
+  const ExactPlane f = ExactPlane::through(a, b, c);
+  for (int i = -5; i <= 5; ++i)
+    EXPECT_EQ(side_of_plane(f, a + i * (b - a) - 2 * i * (c - a)), Sign::Zero);
+  EXPECT_EQ(side_of_plane(f, a + (b - a) + Vec3(0, 0, 1)), sign_of(testing::exact_value(f, a + (b - a) + Vec3(0, 0, 1))));
+  (void)zero_normals;
+}
+
 TEST(ExactPlane, FacesOfABodyAgreeWithFaceSide) {
   const Body b = testing::icosahedron(3).rotated_x(17);
   std::mt19937_64 rng(5);

@@ -99,8 +99,10 @@ inline Rational exact_value(const ExactPlane& f, const Vec3& p) {
     const auto& [a, b, c] = f.points();
     const Rational bax = Rational(b.x()) - a.x(), bay = Rational(b.y()) - a.y(),
                    baz = Rational(b.z()) - a.z();
-    const Rational cax = Rational(c.x()) - a.x(), cay = Rational(c.y()) - a.y(),
-                   caz = Rational(c.z()) - a.z();
+    // Through a direction (through_direction): c is the direction, not a point.
+    const Rational ax = f.by_direction() ? 0 : a.x(), ay = f.by_direction() ? 0 : a.y(),
+                   az = f.by_direction() ? 0 : a.z();
+    const Rational cax = Rational(c.x()) - ax, cay = Rational(c.y()) - ay, caz = Rational(c.z()) - az;
     const Rational pax = Rational(p.x()) - a.x(), pay = Rational(p.y()) - a.y(),
                    paz = Rational(p.z()) - a.z();
     v = -(bax * (cay * paz - caz * pay) - bay * (cax * paz - caz * pax) +

@@ -180,15 +180,8 @@ constexpr double gamma_n(int n) { return n * kUnit / (1 - n * kUnit); }
 // Covers the few roundings of computing a bound in double (each a factor ≥ 1 − u).
 constexpr double kBoundInflation = 1 + 8 * kUnit;
 
-using Interval = CGAL::Interval_nt_advanced;
-
 using internal::filtered_sign;
 
-// Radius that surely covers |x − mid| for x in [inf, sup]: the exact difference rounded to
-// nearest can be half an ulp short; (1 + 4u) makes up for it.
-double radius(double inf, double sup, double mid) {
-  return std::max(sup - mid, mid - inf) * (1 + 4 * kUnit);
-}
 
 }  // namespace
 
@@ -247,29 +240,37 @@ ExactPlane ExactPlane::build(const Vec3& a, const Vec3& b, const Vec3& c, bool d
   f.by_points_ = true;
   f.by_direction_ = direction;
   f.points_ = {a, b, c};
-  // n = (c − a) × (b − a) and k = −n·a, so that n·p + k = −det[b − a, c − a, p − a] = f(p).
-  // Enclosed by intervals; the double form takes the midpoints and the radii go to the bound.
-  double lo[4], hi[4];
-  {
-    CGAL::Protect_FPU_rounding<true> guard;
-    const Interval bax = Interval(b.x()) - Interval(a.x()), bay = Interval(b.y()) - Interval(a.y()),
-                   baz = Interval(b.z()) - Interval(a.z());
-    const Interval cax = direction ? Interval(c.x()) : Interval(c.x()) - Interval(a.x());
-    const Interval cay = direction ? Interval(c.y()) : Interval(c.y()) - Interval(a.y());
-    const Interval caz = direction ? Interval(c.z()) : Interval(c.z()) - Interval(a.z());
-    const Interval n0 = cay * baz - caz * bay, n1 = caz * bax - cax * baz,
-                   n2 = cax * bay - cay * bax;
-    const Interval k =
-        Interval(0) - (n0 * Interval(a.x()) + n1 * Interval(a.y()) + n2 * Interval(a.z()));
-    const Interval all[4] = {n0, n1, n2, k};
-    for (int i = 0; i < 4; ++i) lo[i] = all[i].inf(), hi[i] = all[i].sup();
-  }
-  double mid[4], rad[4];
-  for (int i = 0; i < 4; ++i) {
-    mid[i] = 0.5 * lo[i] + 0.5 * hi[i];
-    rad[i] = radius(lo[i], hi[i], mid[i]);
-  }
-  const int e = std::ilogb(std::max({std::abs(mid[0]), std::abs(mid[1]), std::abs(mid[2])}));
+  // n = (c − a) × (b − a) and k = −n·a, so that n·p + k = −det[b − a, c − a, p − a] = f(p),
+  // computed in double (round to nearest, no contraction) with a static bound on each error
+  // (Higham, ch. 3; u = 2^-53, γ_n = nu/(1 − nu)):
+  //  - a difference d = fl(q − a) is within γ1·|d| of q − a (subtraction never underflows);
+  //  - n0 = fl(fl(cay·baz) − fl(caz·bay)): each exact product is the computed factors' product
+  //    times (1 + θ2), the computed one times (1 + θ2), so |n0 − N0| ≤ 2γ2·P0 + 2·tiny with
+  //    P0 = |cay·baz| + |caz·bay| (tiny: the underflow of the two products);
+  //  - k = −((n0·ax + n1·ay) + n2·az): |k − K| ≤ Σ rad_i·|a_i| + γ3·Σ|n_i·a_i| + 3·tiny.
+  // The bounds are themselves computed in double: (1 + 16u) covers their own few roundings,
+  // and 2γ2·(1 + 16u) < γ5.
+  const double bax = b.x() - a.x(), bay = b.y() - a.y(), baz = b.z() - a.z();
+  const double cax = direction ? c.x() : c.x() - a.x();
+  const double cay = direction ? c.y() : c.y() - a.y();
+  const double caz = direction ? c.z() : c.z() - a.z();
+  const double p0 = cay * baz, q0 = caz * bay, p1 = caz * bax, q1 = cax * baz, p2 = cax * bay,
+               q2 = cay * bax;
+  const double mid[3] = {p0 - q0, p1 - q1, p2 - q2};
+  constexpr double kGrow = 1 + 16 * kUnit;
+  double rad[4];
+  rad[0] = (gamma_n(5) * (std::abs(p0) + std::abs(q0)) + 2 * kTiny) * kGrow;
+  rad[1] = (gamma_n(5) * (std::abs(p1) + std::abs(q1)) + 2 * kTiny) * kGrow;
+  rad[2] = (gamma_n(5) * (std::abs(p2) + std::abs(q2)) + 2 * kTiny) * kGrow;
+  const double t0 = mid[0] * a.x(), t1 = mid[1] * a.y(), t2 = mid[2] * a.z();
+  const double k = -((t0 + t1) + t2);
+  rad[3] = (rad[0] * std::abs(a.x()) + rad[1] * std::abs(a.y()) + rad[2] * std::abs(a.z()) +
+            gamma_n(3) * (std::abs(t0) + std::abs(t1) + std::abs(t2)) + 3 * kTiny) *
+           kGrow;
+  // A sliver whose exact normal is below the rounding of its products can come out as n = 0:
+  // scale by the radii then (the double form is 0 within its bound, so every sign is exact).
+  const double largest = std::max({std::abs(mid[0]), std::abs(mid[1]), std::abs(mid[2])});
+  const int e = std::ilogb(largest > 0 ? largest : std::max({rad[0], rad[1], rad[2]}));
   // x·2^-e: one multiplication by the power of two when it is a normal double (the same
   // correctly rounded result as std::ldexp, without a library call per coefficient).
   const double power = e > -1000 && e < 1000 ? std::ldexp(1.0, -e) : 0;
@@ -281,7 +282,7 @@ ExactPlane ExactPlane::build(const Vec3& a, const Vec3& b, const Vec3& c, bool d
     const double r = scaled(rad[i]) * (1 + 2 * kUnit) + kTiny;
     slope += gamma_n(4) * std::abs(f.n_[i]) + r;
   }
-  f.k_ = scaled(mid[3]);
+  f.k_ = scaled(k);
   const double rk = scaled(rad[3]) * (1 + 2 * kUnit) + kTiny;
   f.slope_ = slope * kBoundInflation;
   f.offset_ = (gamma_n(4) * std::abs(f.k_) + rk + 8 * kTiny) * kBoundInflation;

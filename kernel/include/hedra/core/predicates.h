@@ -90,8 +90,8 @@ class ExactPlane {
   }
   double value(const Vec3& p) const { return value(p.x(), p.y(), p.z()); }
   /// B(m) with |value(p) − F(p)| ≤ B(m) for every p with max |p_i| ≤ m: the rounding of the
-  /// evaluation (γ₄ of the terms), the rounding of n and k themselves (interval radius of the
-  /// three-point construction) and underflow, inflated so that computing B itself in double
+  /// evaluation (γ₄ of the terms), the rounding of n and k themselves (a static bound on their
+  /// construction in double) and underflow, inflated so that computing B itself in double
   /// cannot make it too small.
   double error_bound(double m) const { return slope_ * m + offset_; }
 
