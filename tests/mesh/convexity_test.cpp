@@ -200,6 +200,35 @@ TEST(IsConvex, RotatedAndRoundedBodiesAgreeWithTheDefinition) {
   }
 }
 
+// A rounded quadrilateral q0 q1 q2 q3 (q2 lowered by 8e-15, within rounding planarity) folded
+// along q1–q3, next to a triangle q3 q2 w across q2–q3. The surface is convex, but the face's
+// support triple (q0, q1, q2: its smallest vertex and the farthest one) is not one of its two
+// pieces, and w can lie outside that plane while every edge stays convex. Then the body is not
+// convex by the definition (a vertex off the face outside its plane). The certificate finds it
+// only around q3, the face's own vertex outside that plane.
+Body folded_roof(double w_height) {
+  const double e = -8e-15;
+  const std::vector<Vec3> v = {{0, 0, 0},    {1, 0, 0},    {1, 1, e},      {0, 1, 0},
+                               {0.5, 1.5, w_height * e},   {0, 0, -1},     {1, 0, -1},
+                               {1, 1, -1},   {0.5, 1.5, -1}, {0, 1, -1}};
+  const std::vector<Face> f = {{0, 1, 2, 3}, {3, 2, 4},    {0, 5, 6, 1}, {1, 6, 7, 2},
+                               {2, 7, 8, 4}, {4, 8, 9, 3}, {3, 9, 5, 0}, {5, 9, 8, 7, 6}};
+  return Body(v, f);
+}
+
+TEST(IsConvex, RoundedQuadrilateralWhoseSupportPlaneCutsItsNeighbourIsNotConvex) {
+  // w at 1.25e: below the piece (q1, q2, q3) (at e there), above plane (q0, q1, q2) (1.5e).
+  const Body cut = folded_roof(1.25);
+  EXPECT_EQ(certify_convexity(cut), ConvexityCertificate::NotConvex);
+  expect_matches_oracle(cut, "w outside the support plane");
+  EXPECT_FALSE(is_convex(cut));
+  // w at 2e: below both, convex.
+  const Body kept = folded_roof(2);
+  EXPECT_EQ(certify_convexity(kept), ConvexityCertificate::Convex);
+  expect_matches_oracle(kept, "w inside the support plane");
+  EXPECT_TRUE(is_convex(kept));
+}
+
 TEST(IsConvex, ReflexEdgesSettleNonConvexBodiesAtOnce) {
   for (const Case& c : cases())
     if (!c.convex) EXPECT_EQ(certify_convexity(c.body), ConvexityCertificate::NotConvex) << c.name;

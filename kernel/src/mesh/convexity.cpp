@@ -173,21 +173,26 @@ class Certificate {
 
   // Stage 1 for face f: planar, a rounded quadrilateral split along diagonal q0–q2 (q3 strictly
   // inside plane (q0, q1, q2)) or q1–q3, or not settled here.
+  // A quadrilateral needs one orientation: orient3d is alternating in its four points, so the
+  // support triple (three of the four) against the fourth, and q3 against (q0, q1, q2) and q2
+  // against (q0, q1, q3), are all ±d with d = orient3d(q0, q1, q2, q3).
   FaceKind face_kind(int f) const {
     const Face& face = faces_[static_cast<size_t>(f)];
-    if (planar(face, body_.support(f))) return kPlanar;
-    if (face.loops.size() != 1 || face.loops[0].size() != 4) return kUnknown;
+    const bool quad = face.loops.size() == 1 && face.loops[0].size() == 4;
+    const Sign d = quad ? orient3d(p(face.loops[0][0]), p(face.loops[0][1]), p(face.loops[0][2]),
+                                   p(face.loops[0][3]))
+                        : Sign::Zero;
+    if (d == Sign::Zero && planar(face, body_.support(f))) return kPlanar;
+    if (!quad || d == Sign::Zero) return kUnknown;
     const auto& q = face.loops[0];
     FaceKind k = kUnknown;
     std::array<std::array<int, 3>, 2> t;
-    if (orient3d(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
+    if (d == Sign::Negative) {  // q3 strictly inside plane (q0, q1, q2)
       k = kSplit02;
       t = {{{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}};
-    } else if (orient3d(p(q[0]), p(q[1]), p(q[3]), p(q[2])) == Sign::Negative) {
+    } else {  // orient3d(q0, q1, q3, q2) = −d: q2 strictly inside plane (q0, q1, q3)
       k = kSplit13;
       t = {{{q[0], q[1], q[3]}, {q[1], q[2], q[3]}}};
-    } else {
-      return kUnknown;
     }
     for (const auto& x : t)
       if (collinear(p(x[0]), p(x[1]), p(x[2]))) return kUnknown;
@@ -359,11 +364,22 @@ class Certificate {
   // a vertex that is not a maximum of a linear function has a neighbour across a face with a
   // larger value, and the maxima form a face of K), so either it contains a vertex of f with
   // φ > 0 and a face-neighbour of it off f, or it contains none and a (φ = 0, not a maximum)
-  // has such a neighbour. Checking the faces around a and around f's vertices with φ > 0
-  // decides. Cost O(size of those stars).
+  // has such a neighbour. So the faces around f's vertices with φ > 0 decide when there are
+  // any, and the faces around a when there are none. Cost O(size of those stars).
   bool rounded_face_convex(int f) const {
     const auto& s = body_.support(f);
     const auto& q = faces_[static_cast<size_t>(f)].loops[0];
+    // The support triple is often one of f's two pieces (support_triple takes a diagonal), in
+    // the same cyclic order: then h is a piece plane of the convex surface, and no vertex is
+    // outside it. O(1).
+    const int first = first_piece_[static_cast<size_t>(f)];
+    for (int k = first; k < first + 2; ++k) {
+      const auto& t = pieces_[static_cast<size_t>(k)].triple;
+      for (int r = 0; r < 3; ++r)
+        if (t[static_cast<size_t>(r)] == s[0] && t[static_cast<size_t>((r + 1) % 3)] == s[1] &&
+            t[static_cast<size_t>((r + 2) % 3)] == s[2])
+          return true;
+    }
     auto phi = [&](int x) { return orient3d(p(s[0]), p(s[1]), p(s[2]), p(x)); };
     auto on_f = [&](int x) { return x == q[0] || x == q[1] || x == q[2] || x == q[3]; };
     auto star = [&](int x) {
@@ -373,16 +389,20 @@ class Certificate {
             if (!on_f(y) && phi(y) == Sign::Positive) return false;
       return true;
     };
-    // The support vertex with the smallest star.
+    bool positive = false;
+    for (int x : q)
+      if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive) {
+        positive = true;
+        if (!star(x)) return false;
+      }
+    if (positive) return true;
+    // None: the support vertex with the smallest star.
     int a = s[0];
     for (int x : s)
       if (start_[static_cast<size_t>(x) + 1] - start_[static_cast<size_t>(x)] <
           start_[static_cast<size_t>(a) + 1] - start_[static_cast<size_t>(a)])
         a = x;
-    if (!star(a)) return false;
-    for (int x : q)
-      if (x != s[0] && x != s[1] && x != s[2] && phi(x) == Sign::Positive && !star(x)) return false;
-    return true;
+    return star(a);
   }
 
   const Body& body_;
