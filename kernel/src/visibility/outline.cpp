@@ -5,6 +5,8 @@
 #include <numbers>
 #include <utility>
 
+#include "hedra/core/parallel.h"
+
 namespace hedra {
 namespace {
 
@@ -38,6 +40,15 @@ std::vector<EdgeClass> classify_edges(const Body& body, double crease_angle_deg,
 
 namespace {
 
+// f(begin, end) over fixed chunks of [0, n), in parallel; results go to each index's own place
+// (or to its chunk's), so they do not depend on the threads.
+constexpr size_t kChunk = 4096;
+template <class F>
+void for_chunks(size_t n, F&& f) {
+  parallel_for((n + kChunk - 1) / kChunk, 0,
+               [&](size_t c) { f(c * kChunk, std::min(n, (c + 1) * kChunk)); });
+}
+
 // The corner normals of corner_normals(), one corner at a time, without the per-corner table:
 // a vertex whose faces all lie within half the crease angle of its first face (less a margin
 // that rounding cannot cross) has every pair of its faces within the crease angle, so each of
@@ -51,6 +62,17 @@ class CornerNormals {
     const double crease = crease_angle_deg * std::numbers::pi / 180;
     cos_crease_ = std::cos(crease);
     const size_t nv = v_.size(), nf = faces_.size();
+    normal_.resize(nf);
+    analytic_.assign(nf, 0);
+    bool all_analytic = true;
+    for (size_t f = 0; f < nf; ++f) {
+      normal_[f] = outward_normal(body, static_cast<int>(f));
+      analytic_[f] = curved(surface, normal_[f]);
+      all_analytic = all_analytic && analytic_[f];
+    }
+    shared_.assign(nv, 0);
+    // Every corner analytic (a sphere): normal() never reads the faces around a vertex.
+    if (all_analytic) return;
     // Faces around each vertex (CSR), in ascending face order.
     start_.assign(nv + 1, 0);
     for (const Face& face : faces_)
@@ -62,19 +84,13 @@ class CornerNormals {
       std::vector<int> fill(start_.begin(), start_.end() - 1);
       for (size_t f = 0; f < nf; ++f)
         for (const auto& loop : faces_[f].loops)
-          for (int x : loop) around_[static_cast<size_t>(fill[static_cast<size_t>(x)]++)] = static_cast<int>(f);
-    }
-    normal_.resize(nf);
-    analytic_.assign(nf, 0);
-    for (size_t f = 0; f < nf; ++f) {
-      normal_[f] = outward_normal(body, static_cast<int>(f));
-      analytic_[f] = curved(surface, normal_[f]);
+          for (int x : loop)
+            around_[static_cast<size_t>(fill[static_cast<size_t>(x)]++)] = static_cast<int>(f);
     }
     // Shared vertices: computed dot ≥ cos(crease/2 − 1e-6) + 1e-12 makes the true angle to the
     // first face at most crease/2 − 1e-6, so any two faces are at most crease − 2e-6 apart and
     // their computed dot (error ~1e-15) is ≥ cos_crease.
     const double half = crease / 2 - 1e-6;
-    shared_.assign(nv, 0);
     shared_normal_.assign(nv, Vec3::Zero());
     if (half > 0) {
       const double cos_half = std::cos(half) + 1e-12;
@@ -169,14 +185,15 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
     for (size_t f = 0; f < faces.size(); ++f) {
       if (!normals.analytic(static_cast<int>(f))) continue;
       for (const auto& loop : faces[f].loops)
-        for (int x : loop) {
-          char& r = regular[static_cast<size_t>(x)];
-          if (r != 0) continue;
-          const Vec3& p = v[static_cast<size_t>(x)];
-          r = surface.normal_needs_face(p) ? 2 : 1;
-          if (r == 1) vertex_normal[static_cast<size_t>(x)] = surface.normal(p, Vec3::Zero());
-        }
+        for (int x : loop) regular[static_cast<size_t>(x)] = 1;
     }
+    for_chunks(v.size(), [&](size_t begin, size_t end) {
+      for (size_t x = begin; x != end; ++x) {
+        if (regular[x] == 0) continue;
+        regular[x] = surface.normal_needs_face(v[x]) ? 2 : 1;
+        if (regular[x] == 1) vertex_normal[x] = surface.normal(v[x], Vec3::Zero());
+      }
+    });
   }
   const auto corner_normal = [&](int f, int x) {
     if (!normals.analytic(f)) return normals.normal(f, x, Vec3::Zero());
@@ -218,61 +235,70 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
       if (regular[x] == 1) analytic_g[x] = vertex_normal[x].dot(view.ray_to(v[x]));
   }
 
+  // The triangles in fixed chunks, each chunk's segments in triangle order, the chunks in
+  // order: the same list at any thread count.
+  const auto& triangles = body.triangles();
+  std::vector<std::vector<OutlineSegment>> chunk_out((triangles.size() + kChunk - 1) / kChunk);
+  for_chunks(triangles.size(), [&](size_t begin, size_t end) {
+    std::vector<OutlineSegment>& out = chunk_out[begin / kChunk];
+    for (size_t ti = begin; ti != end; ++ti) {
+      const Triangle& t = triangles[ti];
+      // Quick rejection: three shared non-analytic corners of one sign (flat or not, no contour).
+      if (!normals.analytic(t.face)) {
+        int positive = 0;
+        bool all_shared = true;
+        for (int k = 0; k < 3 && all_shared; ++k) {
+          const size_t x = static_cast<size_t>(t.v[k]);
+          all_shared = normals.shared(t.v[k]) && !singular[x];
+          positive += shared_g[x] >= 0;
+        }
+        if (all_shared && (positive == 0 || positive == 3)) continue;
+      } else {
+        // Three cached analytic corners of one sign: the same test as below, without the normals.
+        int positive = 0;
+        bool cached = true;
+        for (int k = 0; k < 3 && cached; ++k) {
+          const size_t x = static_cast<size_t>(t.v[k]);
+          cached = regular[x] == 1;
+          positive += analytic_g[x] >= 0;
+        }
+        if (cached && (positive == 0 || positive == 3)) continue;
+      }
+      // A flat-shaded triangle (every corner on the face's own normal) has n·r of one sign in
+      // exact arithmetic, the sign facing() decides; rounding must not make a contour there
+      // (a box face seen edge-on).
+      const Vec3& face_normal = normals.face_normal(t.face);
+      Vec3 n[3];
+      bool flat = true;
+      for (int k = 0; k < 3; ++k) {
+        n[k] = corner_normal(t.face, t.v[k]);
+        flat = flat && n[k] == face_normal;
+      }
+      if (flat) continue;
+      double g[3];
+      bool positive[3];
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& p = v[static_cast<size_t>(t.v[k])];
+        g[k] = singular[static_cast<size_t>(t.v[k])] ? 0.0 : n[k].dot(view.ray_to(p));
+        positive[k] = g[k] >= 0;
+      }
+      if (positive[0] == positive[1] && positive[1] == positive[2]) continue;
+      // The two sides whose ends differ in sign; each crossing is interpolated from the end with
+      // the smaller vertex index, so that the neighbour across the side gets the same point.
+      Vec3 ends[2];
+      int m = 0;
+      for (int k = 0; k < 3; ++k) {
+        int i = k, j = (k + 1) % 3;
+        if (positive[i] == positive[j]) continue;
+        if (t.v[j] < t.v[i]) std::swap(i, j);
+        const Vec3 &pi = v[static_cast<size_t>(t.v[i])], &pj = v[static_cast<size_t>(t.v[j])];
+        ends[m++] = pi + (g[i] / (g[i] - g[j])) * (pj - pi);
+      }
+      out.push_back({ends[0], ends[1], t.face});
+    }
+  });
   std::vector<OutlineSegment> out;
-  for (const Triangle& t : body.triangles()) {
-    // Quick rejection: three shared non-analytic corners of one sign (flat or not, no contour).
-    if (!normals.analytic(t.face)) {
-      int positive = 0;
-      bool all_shared = true;
-      for (int k = 0; k < 3 && all_shared; ++k) {
-        const size_t x = static_cast<size_t>(t.v[k]);
-        all_shared = normals.shared(t.v[k]) && !singular[x];
-        positive += shared_g[x] >= 0;
-      }
-      if (all_shared && (positive == 0 || positive == 3)) continue;
-    } else {
-      // Three cached analytic corners of one sign: the same test as below, without the normals.
-      int positive = 0;
-      bool cached = true;
-      for (int k = 0; k < 3 && cached; ++k) {
-        const size_t x = static_cast<size_t>(t.v[k]);
-        cached = regular[x] == 1;
-        positive += analytic_g[x] >= 0;
-      }
-      if (cached && (positive == 0 || positive == 3)) continue;
-    }
-    // A flat-shaded triangle (every corner on the face's own normal) has n·r of one sign in
-    // exact arithmetic, the sign facing() decides; rounding must not make a contour there
-    // (a box face seen edge-on).
-    const Vec3& face_normal = normals.face_normal(t.face);
-    Vec3 n[3];
-    bool flat = true;
-    for (int k = 0; k < 3; ++k) {
-      n[k] = corner_normal(t.face, t.v[k]);
-      flat = flat && n[k] == face_normal;
-    }
-    if (flat) continue;
-    double g[3];
-    bool positive[3];
-    for (int k = 0; k < 3; ++k) {
-      const Vec3& p = v[static_cast<size_t>(t.v[k])];
-      g[k] = singular[static_cast<size_t>(t.v[k])] ? 0.0 : n[k].dot(view.ray_to(p));
-      positive[k] = g[k] >= 0;
-    }
-    if (positive[0] == positive[1] && positive[1] == positive[2]) continue;
-    // The two sides whose ends differ in sign; each crossing is interpolated from the end with
-    // the smaller vertex index, so that the neighbour across the side gets the same point.
-    Vec3 ends[2];
-    int m = 0;
-    for (int k = 0; k < 3; ++k) {
-      int i = k, j = (k + 1) % 3;
-      if (positive[i] == positive[j]) continue;
-      if (t.v[j] < t.v[i]) std::swap(i, j);
-      const Vec3 &pi = v[static_cast<size_t>(t.v[i])], &pj = v[static_cast<size_t>(t.v[j])];
-      ends[m++] = pi + (g[i] / (g[i] - g[j])) * (pj - pi);
-    }
-    out.push_back({ends[0], ends[1], t.face});
-  }
+  for (auto& chunk : chunk_out) out.insert(out.end(), chunk.begin(), chunk.end());
   return out;
 }
 
