@@ -30,8 +30,10 @@ struct ConvexityReport {
 /// which rules out surfaces that are locally convex but wound twice around o). Then the
 /// solid is star-shaped about o and locally convex everywhere, hence convex (Tietze–Nakajima).
 /// Faces rounded off their plane (a rotated body, a tessellated sphere) are checked as two
-/// triangles (quadrilaterals) plus a local search that relates the face's support plane to the
-/// convex surface. A strictly reflex edge proves non-convexity at once. Cases the certificate
+/// triangles (quadrilaterals: one orientation decides planarity and the convex diagonal) plus
+/// a local search that relates the face's support plane to the convex surface: none when the
+/// support triple is one of the two triangles, else the faces around the face's own vertices
+/// outside that plane. A strictly reflex edge proves non-convexity at once. Cases the certificate
 /// does not settle (rounded faces of five or more vertices, a centre on a face plane, folded
 /// coplanar faces) fall back to the definition evaluated through the convex hull (see
 /// convexity()), so the answer is always exact.
