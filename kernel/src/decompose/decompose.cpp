@@ -449,7 +449,8 @@ Piece merged(const Context& ctx, const Piece& a, const Piece& b,
     std::sort(candidates[t].begin(), candidates[t].end());
     candidates[t].erase(std::unique(candidates[t].begin(), candidates[t].end()), candidates[t].end());
     HEDRA_ASSERT(!candidates[t].empty(), "decompose: a merged face lies on no face plane");
-    normal[t] = (rounded(pts[v[1]].p) - rounded(pts[v[0]].p)).cross(rounded(pts[v[2]].p) - rounded(pts[v[0]].p));
+    const Vec3 corner = rounded(pts[v[0]].p);
+    normal[t] = (rounded(pts[v[1]].p) - corner).cross(rounded(pts[v[2]].p) - corner);
     const bool thin = normal[t].norm() <= 1e-6 * scale * scale;
     if (candidates[t].size() == 1) {
       plane[t] = candidates[t][0];

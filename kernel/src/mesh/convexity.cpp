@@ -72,7 +72,7 @@ class Certificate {
     const int n = body_.face_count();
     std::vector<FaceKind> kind(static_cast<size_t>(n));
     std::atomic<bool> unknown{false};
-    for_chunks(static_cast<size_t>(n), [&](size_t begin, size_t end) {
+    parallel_chunks(static_cast<size_t>(n), kChunk, [&](size_t, size_t begin, size_t end) {
       for (size_t f = begin; f != end && !unknown.load(std::memory_order_relaxed); ++f) {
         kind[f] = face_kind(static_cast<int>(f));
         if (kind[f] == kUnknown) unknown = true;
@@ -109,10 +109,9 @@ class Certificate {
     std::vector<char> failed(chunks, 0);
     std::vector<Verdict> chunk_verdict(chunks, Verdict::Unknown);
     std::atomic<size_t> first_failed{chunks};
-    parallel_for(chunks, 0, [&](size_t c) {
+    parallel_chunks(edges.size(), kChunk, [&](size_t c, size_t begin, size_t end) {
       if (c > first_failed.load(std::memory_order_relaxed)) return;  // a lower chunk decides
-      const size_t end = std::min(edges.size(), (c + 1) * kChunk);
-      for (size_t i = c * kChunk; i != end; ++i) {
+      for (size_t i = begin; i != end; ++i) {
         const std::optional<Verdict> v = edge_verdict(edges[i]);
         if (!v) continue;
         failed[c] = 1;
@@ -131,7 +130,7 @@ class Certificate {
     for (const Vec3& x : v_) sum += x;
     const Vec3 o = sum / static_cast<double>(v_.size());
     std::atomic<bool> outside{false};
-    for_chunks(pieces_.size(), [&](size_t begin, size_t end) {
+    parallel_chunks(pieces_.size(), kChunk, [&](size_t, size_t begin, size_t end) {
       for (size_t k = begin; k != end && !outside.load(std::memory_order_relaxed); ++k) {
         const Piece& piece = pieces_[k];
         if (orient3d(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
@@ -149,7 +148,7 @@ class Certificate {
     if (!rounded_.empty()) {
       build_incidence();
       std::atomic<bool> reflex_found{false};
-      for_chunks(rounded_.size(), [&](size_t begin, size_t end) {
+      parallel_chunks(rounded_.size(), kChunk, [&](size_t, size_t begin, size_t end) {
         for (size_t k = begin; k != end && !reflex_found.load(std::memory_order_relaxed); ++k)
           if (!rounded_face_convex(rounded_[k])) reflex_found = true;
       });
@@ -162,12 +161,6 @@ class Certificate {
   static constexpr size_t kChunk = 4096;
   enum FaceKind : char { kPlanar, kSplit02, kSplit13, kUnknown };
 
-  // f(begin, end) over the fixed chunks of [0, n), in parallel.
-  template <class F>
-  static void for_chunks(size_t n, F&& f) {
-    const size_t chunks = (n + kChunk - 1) / kChunk;
-    parallel_for(chunks, 0, [&](size_t c) { f(c * kChunk, std::min(n, (c + 1) * kChunk)); });
-  }
 
   const Vec3& p(int i) const { return v_[static_cast<size_t>(i)]; }
 
@@ -304,7 +297,7 @@ class Certificate {
     };
     const size_t chunks = (pieces_.size() + kChunk - 1) / kChunk;
     std::vector<Partial> partial(chunks);
-    parallel_for(chunks, 0, [&](size_t c) {
+    parallel_chunks(pieces_.size(), kChunk, [&](size_t c, size_t begin, size_t end) {
       Partial& part = partial[c];
       auto add = [&](int ia, int ib, int ic) {
         const Sign s = orient3d(p(ia), p(ib), p(ic), o);
@@ -323,8 +316,7 @@ class Certificate {
         part.error += 2 * slack / (r - slack) + 8 * kEpsilon;
         return true;
       };
-      const size_t end = std::min(pieces_.size(), (c + 1) * kChunk);
-      for (size_t k = c * kChunk; k != end && part.ok; ++k) {
+      for (size_t k = begin; k != end && part.ok; ++k) {
         const Piece& piece = pieces_[k];
         if (piece.triangle) {
           part.ok = add(piece.triple[0], piece.triple[1], piece.triple[2]);

@@ -40,14 +40,8 @@ std::vector<EdgeClass> classify_edges(const Body& body, double crease_angle_deg,
 
 namespace {
 
-// f(begin, end) over fixed chunks of [0, n), in parallel; results go to each index's own place
-// (or to its chunk's), so they do not depend on the threads.
+// Outlines run over fixed chunks of vertices and triangles (parallel_chunks).
 constexpr size_t kChunk = 4096;
-template <class F>
-void for_chunks(size_t n, F&& f) {
-  parallel_for((n + kChunk - 1) / kChunk, 0,
-               [&](size_t c) { f(c * kChunk, std::min(n, (c + 1) * kChunk)); });
-}
 
 // The corner normals of corner_normals(), one corner at a time, without the per-corner table:
 // a vertex whose faces all lie within half the crease angle of its first face (less a margin
@@ -187,7 +181,7 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
       for (const auto& loop : faces[f].loops)
         for (int x : loop) regular[static_cast<size_t>(x)] = 1;
     }
-    for_chunks(v.size(), [&](size_t begin, size_t end) {
+    parallel_chunks(v.size(), kChunk, [&](size_t, size_t begin, size_t end) {
       for (size_t x = begin; x != end; ++x) {
         if (regular[x] == 0) continue;
         regular[x] = surface.normal_needs_face(v[x]) ? 2 : 1;
@@ -239,8 +233,8 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
   // order: the same list at any thread count.
   const auto& triangles = body.triangles();
   std::vector<std::vector<OutlineSegment>> chunk_out((triangles.size() + kChunk - 1) / kChunk);
-  for_chunks(triangles.size(), [&](size_t begin, size_t end) {
-    std::vector<OutlineSegment>& out = chunk_out[begin / kChunk];
+  parallel_chunks(triangles.size(), kChunk, [&](size_t c, size_t begin, size_t end) {
+    std::vector<OutlineSegment>& out = chunk_out[c];
     for (size_t ti = begin; ti != end; ++ti) {
       const Triangle& t = triangles[ti];
       // Quick rejection: three shared non-analytic corners of one sign (flat or not, no contour).

@@ -29,6 +29,18 @@ void parallel_for(size_t n, int threads, F&& f) {
   });
 }
 
+/// f(c, begin, end) for every fixed chunk c of [0, n): [c·chunk, min(n, (c + 1)·chunk)), with
+/// the threads of parallel_blocks (threads ≤ 0). The chunks do not depend on the threads, so
+/// per-chunk results (a first failure, a partial sum, a list) combined in chunk order are the
+/// same at any thread count. There are (n + chunk − 1) / chunk chunks.
+template <class F>
+void parallel_chunks(size_t n, size_t chunk, F&& f) {
+  parallel_for((n + chunk - 1) / chunk, 0, [&f, n, chunk](size_t c) {
+    const size_t begin = c * chunk;
+    f(c, begin, n - begin < chunk ? n : begin + chunk);
+  });
+}
+
 /// Runs f so that every parallel loop inside it with threads ≤ 0 uses at most
 /// bounded_threads(threads) workers (threads ≤ 0: no limit). For a pipeline of several loops
 /// and nested library calls under one thread option (the renderer).
