@@ -54,7 +54,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
   // thousands of nearly coincident corners sent the union to its exact fallback). The
   // decisions (sides of the plane, inside the part) are exact on the rounded projections.
   const auto project_triangle = [&](const ShadowPiece& piece) {
-    if (piece.shape) return false;
+    if (piece.convex) return false;
     const auto& tv = piece.triangle;
     const Vec3& n = fd.normal;
     const double lit = view.at_infinity ? n.dot(view.direction) : n.dot(fd.anchor - view.point);
@@ -92,7 +92,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
     // A convex body never hides its own faces; pieces of a non-convex one may.
     if (pieces[static_cast<size_t>(p)].body == b && bd.skips(f, p, pieces[static_cast<size_t>(p)])) return;
     const ShadowPiece& piece = pieces[static_cast<size_t>(p)];
-    if (!piece.shape && front) {
+    if (!piece.convex && front) {
       // A triangle in the closed inner half-space of a face turned to the viewpoint meets
       // the segment from the viewpoint to a point X of the face at X at most: it hides
       // nothing of it (on a tessellated sphere, the neighbours every front face meets).
@@ -104,7 +104,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
       out.push_back(ring);
       return;
     }
-    if (!piece.shape) {
+    if (!piece.convex) {
       // The first plane of a triangle's volume is its own (open: only its strict inner side is
       // hidden): a face wholly on the other side, or on it, is not hidden. Settles, with the
       // plane the triangle has already, a neighbour across an edge that rounding to float made
@@ -137,19 +137,21 @@ bool ShadowScene::Impl::point_hidden(int b, int f, const Vec3& p, const CasterIn
 PieceVolumes ShadowScene::Impl::volumes(const Viewpoint& view, int threads) const {
   PieceVolumes v;
   v.view = view;
-  v.volumes.resize(pieces.size());
+  v.volumes.resize(static_cast<size_t>(convex_pieces));
   v.active.assign(pieces.size(), 0);
   parallel_for(pieces.size(), threads, [&](size_t p) {
     const ShadowPiece& piece = pieces[p];
-    if (!piece.shape) {
+    if (!piece.convex) {
       // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
       v.active[p] = facing(*piece.triangle_plane, view) == Facing::Front;
       return;
     }
-    std::vector<Facing> turned(piece.planes.size());
-    for (size_t f = 0; f < piece.planes.size(); ++f) turned[f] = facing(piece.planes[f], view);
-    v.volumes[p] = occlusion_volume(*piece.shape, turned, view, piece.planes);
-    v.active[p] = v.volumes[p].clipper.has_value();
+    const ShadowPiece::Convex& c = *piece.convex;
+    std::vector<Facing> turned(c.planes.size());
+    for (size_t f = 0; f < c.planes.size(); ++f) turned[f] = facing(c.planes[f], view);
+    OcclusionVolume& volume = v.volumes[static_cast<size_t>(c.slot)];
+    volume = occlusion_volume(c.shape, turned, view, c.planes);
+    v.active[p] = volume.clipper.has_value();
   });
   return v;
 }
@@ -236,9 +238,10 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     std::iota(body_data.pieces.begin(), body_data.pieces.end(), static_cast<int>(next));
     for (size_t k = 0; k < pieces[b].size(); ++k) {
       ShadowPiece& pd = m.pieces[next++];
-      pd.shape = std::move(pieces[b][k]);
-      pd.planes = std::move(piece_planes[b][k]);
-      if (k < exact_planes[b].size()) pd.exact_planes = std::move(exact_planes[b][k]);
+      pd.convex = std::make_unique<ShadowPiece::Convex>(std::move(pieces[b][k]));
+      pd.convex->planes = std::move(piece_planes[b][k]);
+      if (k < exact_planes[b].size()) pd.convex->exact_planes = std::move(exact_planes[b][k]);
+      pd.convex->slot = m.convex_pieces++;
       pd.body = static_cast<int>(b);
       place(pd);
     }
@@ -280,11 +283,12 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
           // Exact: the exact piece has a face on one of the face's canonical planes, on the
           // same side (the piece lies on the face's inner side).
           bool on = false;
-          if (!model.empty() && !pd.exact_planes.empty()) {
+          const auto& exact = pd.convex->exact_planes;
+          if (!model.empty() && !exact.empty()) {
             for (const auto& c : model.face_planes[f])
-              on = on || std::binary_search(pd.exact_planes.begin(), pd.exact_planes.end(), c);
+              on = on || std::binary_search(exact.begin(), exact.end(), c);
           } else {
-            on = piece_on_face_plane(*pd.shape, bd.faces[f], scale);
+            on = piece_on_face_plane(pd.convex->shape, bd.faces[f], scale);
           }
           if (on)
             bd.own_adjacent[f].push_back(p);

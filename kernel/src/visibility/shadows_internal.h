@@ -103,27 +103,33 @@ ShadowPolygon whole_face(const Body& body, int f);
 
 struct ShadowPiece {
   int body = 0;  // index into Impl::bodies
-  // A convex piece; empty for a triangle of a body occluding by its faces, which keeps only
-  // its corners (a million-face mesh makes a million triangles: no Body each).
-  std::optional<Body> shape;
+  // A triangle of a face of a body occluding by its faces (Occluders::Faces): that face. It
+  // occludes only from viewpoints its face 0 (the body face's orientation) turns to.
+  int face = -1;
+  // A convex piece: its Body, face planes and exact faces. Null for a triangle of a body
+  // occluding by its faces, which keeps only its corners: a million-face mesh makes a million
+  // triangles, so they carry no Body and no empty vectors (136 bytes a triangle, not 208).
+  struct Convex {
+    explicit Convex(Body b) : shape(std::move(b)) {}
+    Body shape;
+    std::vector<ExactPlane> planes;  // its face planes (exact_face_plane)
+    // The exact piece's faces (Decomposition::piece_planes); empty: none given.
+    std::vector<std::pair<int, int>> exact_planes;
+    int slot = 0;  // its occlusion volume in PieceVolumes::volumes
+  };
+  std::unique_ptr<Convex> convex;
   std::array<Vec3, 3> triangle{};
   std::span<const Vec3> vertices() const {
-    if (shape) return shape->vertices();
+    if (convex) return convex->shape.vertices();
     return triangle;
   }
-  std::vector<ExactPlane> planes;  // a convex piece's face planes (exact_face_plane)
   // A triangle: its exact plane, triangle_plane(triangle). That is the plane of its face when
   // the face is a triangle listed from the same corner (ShadowFace::plane, not copied: 160
   // bytes a triangle), else own_triangle_plane.
   const ExactPlane* triangle_plane = nullptr;
   std::unique_ptr<ExactPlane> own_triangle_plane;
-  // The exact piece's faces (Decomposition::piece_planes); empty: none given.
-  std::vector<std::pair<int, int>> exact_planes;
   Vec3 centre = Vec3::Zero();
   double radius = 0;
-  // A triangle of a face of a body occluding by its faces (Occluders::Faces): that face. It
-  // occludes only from viewpoints its face 0 (the body face's orientation) turns to.
-  int face = -1;
 };
 
 struct ShadowBody {
@@ -165,14 +171,14 @@ bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale);
 // candidates are settled before (projected whole, or behind the face). volume_of builds it when
 // a clip needs it.
 struct PieceVolumes {
-  std::vector<OcclusionVolume> volumes;  // per piece; empty for a triangle
+  std::vector<OcclusionVolume> volumes;  // per convex piece (ShadowPiece::Convex::slot)
   std::vector<char> active;              // per piece: it occludes from the viewpoint
   Viewpoint view;
   // The volume of piece p (active): the stored one, or a triangle's built in a per-thread
   // scratch, valid until this thread's next call. Cost O(1) for a triangle.
   const OcclusionVolume& volume_of(const std::vector<ShadowPiece>& pieces, int p) const {
     const ShadowPiece& piece = pieces[static_cast<size_t>(p)];
-    if (piece.shape) return volumes[static_cast<size_t>(p)];
+    if (piece.convex) return volumes[static_cast<size_t>(piece.convex->slot)];
     thread_local OcclusionVolume scratch;
     scratch = triangle_occlusion_volume(piece.triangle, *piece.triangle_plane, view);
     return scratch;
@@ -365,6 +371,7 @@ struct ShadowScene::Impl {
   Camera camera;
   std::vector<internal::ShadowBody> bodies;
   std::vector<internal::ShadowPiece> pieces;
+  int convex_pieces = 0;  // pieces with a ShadowPiece::Convex (slots 0 … convex_pieces − 1)
   std::vector<int> first_face;             // per scene body
   std::vector<std::pair<int, int>> faces;  // (body data, face) in result order
   double scale = 1;
