@@ -308,19 +308,9 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 
-  // Everything is formatted before anything is written.
-  std::string json_text, svg_text;
-  if (!command.json_file.empty())
-    json_text = io::shadows_json(scene, command.scene_file, result, options.visible_parts, ms,
-                                 study ? &*study_options : nullptr, study ? &*study : nullptr) +
-                "\n";
-  if (dask_study && !json_text.empty()) {
-    // The report as always, with the cluster's sun_study object: the same bytes as one
-    // process's (nlohmann prints a parsed double as it was printed).
-    nlohmann::json j = nlohmann::json::parse(json_text);
-    j["sun_study"] = *dask_study;
-    json_text = j.dump() + "\n";
-  }
+  // Everything is formatted before anything is visible: the outputs are staged under
+  // temporary names and renamed together.
+  std::string svg_text;
   if (!command.svg_file.empty()) {
     try {
       svg_text = shadows_svg(scene, result, "hedra shadows " + command.scene_file, command.fit);
@@ -329,7 +319,24 @@ void run_shadows(const ShadowsCommand& command, std::ostream& out) {
     }
   }
   io::OutputTransaction outputs;  // both files or neither
-  if (!command.json_file.empty()) outputs.add(command.json_file, json_text);
+  if (!command.json_file.empty()) {
+    const SunStudyOptions* so = study ? &*study_options : nullptr;
+    const SunStudy* st = study ? &*study : nullptr;
+    if (dask_study) {
+      // The report as always, with the cluster's sun_study object: the same bytes as one
+      // process's (nlohmann prints a parsed double as it was printed).
+      nlohmann::json j = nlohmann::json::parse(
+          io::shadows_json(scene, command.scene_file, result, options.visible_parts, ms, so, st));
+      j["sun_study"] = *dask_study;
+      outputs.add(command.json_file, j.dump() + "\n");
+    } else {
+      // Written as it is formatted: a million faces make hundreds of MB of text.
+      outputs.add(command.json_file, [&](const std::function<void(std::string_view)>& write) {
+        io::write_shadows_json(write, scene, command.scene_file, result, options.visible_parts, ms, so, st);
+        write("\n");
+      });
+    }
+  }
   if (!command.svg_file.empty()) outputs.add(command.svg_file, svg_text);
   check_interrupted();  // Ctrl-C up to here: no file
   outputs.commit();

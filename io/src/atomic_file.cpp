@@ -61,6 +61,35 @@ void OutputTransaction::add(const std::string& path, const std::string& bytes) {
   staged_.push_back({temp, target, path});
 }
 
+void OutputTransaction::add(
+    const std::string& path,
+    const std::function<void(const std::function<void(std::string_view)>& write)>& produce) {
+  const fs::path target(path);
+  std::error_code ec;
+  if (fs::is_directory(target, ec)) throw IoError(path + ": is a directory");
+  const fs::path temp = temporary_name(target);
+  std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+  if (!out) throw IoError(path + ": cannot open for writing");
+  const auto discard = [&] {
+    out.close();
+    std::error_code ignored;
+    fs::remove(temp, ignored);
+  };
+  try {
+    produce([&out](std::string_view bytes) { out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+  } catch (...) {
+    discard();
+    throw;
+  }
+  out.flush();
+  if (!out) {
+    discard();
+    throw IoError(path + ": write error");
+  }
+  out.close();
+  staged_.push_back({temp, target, path});
+}
+
 void OutputTransaction::add_directory(
     const std::string& dir, const std::vector<std::pair<std::string, std::string>>& files) {
   const fs::path target(dir);

@@ -1,5 +1,9 @@
 #include "hedra/io/report_json.h"
 
+#include <algorithm>
+#include <functional>
+#include <string_view>
+
 #include <nlohmann/json.hpp>
 
 #include "hedra/scene/sun.h"
@@ -140,53 +144,23 @@ std::string hidden_lines_json(const HlrResult& result, double ms) {
 // so no name can imitate the key and its value).
 std::string face_marker(size_t l) { return "hedra-faces-of-light-" + std::to_string(l) + "-a93f0c"; }
 
-std::string shadows_json(const Scene& scene, const std::string& scene_name,
-                         const ShadowResult& result, bool visible_parts, double ms,
-                         const SunStudyOptions* study_options, const SunStudy* study) {
+void write_shadows_json(const std::function<void(std::string_view)>& write, const Scene& scene,
+                        const std::string& scene_name, const ShadowResult& result,
+                        bool visible_parts, double ms, const SunStudyOptions* study_options,
+                        const SunStudy* study) {
   json j;
   j["ms"] = ms;
   j["scene"] = scene_name;
-  // Each face's object is built and dumped on its own, in parallel (a million faces make a
-  // document of hundreds of MB: one DOM of it took longer than the shadows), and spliced into
-  // the document where a marker stands for each light's face array. Objects dump with sorted
-  // keys and no spaces, so the bytes are those of dumping the whole document at once.
+  // The document without the faces: each light's face array is a marker here. The faces'
+  // objects are then built and dumped in parallel (a million faces make a document of hundreds
+  // of MB: one DOM of it took longer than the shadows), a wave of blocks at a time, and written
+  // in order where the marker stands. Objects dump with sorted keys and no spaces, so the bytes
+  // are those of dumping the whole document at once; nothing holds more than a wave of them
+  // (holding the whole text twice, as faces and as the document, was the peak memory of
+  // `hedra shadows` on a million faces).
   json lights = json::array();
-  std::vector<std::string> face_arrays;
-  for (size_t l = 0; l < result.lights.size(); ++l) {
-    const LightShadows& ls = result.lights[l];
-    std::vector<std::string> dumped(ls.faces.size());
-    parallel_blocks(ls.faces.size(), 0, 1024, [&](size_t begin, size_t end) {
-      for (size_t i = begin; i != end; ++i) {
-        const FaceShadow& fs = ls.faces[i];
-        json f{{"body", scene.bodies()[static_cast<size_t>(fs.body)].name},
-               {"face", fs.face},
-               {"area", fs.area},
-               {"self_shadowed", fs.self_shadowed()},
-               {"grazing", fs.grazing()},
-               {"visible", fs.visible},
-               {"shadow_area", fs.shadow_area},
-               {"polygons", polygons_json(fs.polygons)},
-               {"holes", hole_indices(fs.polygons)}};
-        if (visible_parts) {
-          f["visible_shadow_area"] = fs.visible_shadow_area;
-          f["visible_polygons"] = polygons_json(fs.visible_polygons);
-        }
-        dumped[i] = f.dump(-1, ' ', false, json::error_handler_t::replace);
-      }
-    });
-    size_t size = 2;
-    for (const std::string& d : dumped) size += d.size() + 1;
-    std::string array;
-    array.reserve(size);
-    array += '[';
-    for (size_t i = 0; i < dumped.size(); ++i) {
-      if (i) array += ',';
-      array += dumped[i];
-    }
-    array += ']';
-    face_arrays.push_back(std::move(array));
-    lights.push_back({{"light", light_json(ls.light)}, {"faces", face_marker(l)}});
-  }
+  for (size_t l = 0; l < result.lights.size(); ++l)
+    lights.push_back({{"light", light_json(result.lights[l].light)}, {"faces", face_marker(l)}});
   j["lights"] = std::move(lights);
   json counts = json::array();
   for (const ShadowCount& c : result.counts)
@@ -201,24 +175,61 @@ std::string shadows_json(const Scene& scene, const std::string& scene_name,
   j["counts"] = std::move(counts);
   if (study != nullptr && study_options != nullptr)
     j["sun_study"] = sun_study_object(scene, *study_options, *study);
-  std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
+  const std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
+
+  constexpr size_t kBlock = 1024, kWave = 64;  // faces per block, blocks per wave
+  std::vector<std::string> blocks(kWave);
+  const auto write_faces = [&](const LightShadows& ls) {
+    const size_t n = ls.faces.size();
+    for (size_t first = 0; first < n; first += kBlock * kWave) {
+      const size_t count = std::min(n - first, kBlock * kWave);
+      parallel_chunks(count, kBlock, [&](size_t c, size_t begin, size_t end) {
+        std::string& out = blocks[c];
+        out.clear();
+        for (size_t i = first + begin; i != first + end; ++i) {
+          const FaceShadow& fs = ls.faces[i];
+          json f{{"body", scene.bodies()[static_cast<size_t>(fs.body)].name},
+                 {"face", fs.face},
+                 {"area", fs.area},
+                 {"self_shadowed", fs.self_shadowed()},
+                 {"grazing", fs.grazing()},
+                 {"visible", fs.visible},
+                 {"shadow_area", fs.shadow_area},
+                 {"polygons", polygons_json(fs.polygons)},
+                 {"holes", hole_indices(fs.polygons)}};
+          if (visible_parts) {
+            f["visible_shadow_area"] = fs.visible_shadow_area;
+            f["visible_polygons"] = polygons_json(fs.visible_polygons);
+          }
+          if (i != 0) out += ',';
+          out += f.dump(-1, ' ', false, json::error_handler_t::replace);
+        }
+      });
+      for (size_t c = 0; c < (count + kBlock - 1) / kBlock; ++c) write(blocks[c]);
+    }
+  };
   // The markers, in light order (the document lists the lights in order), become the arrays.
-  std::string out;
-  size_t total = text.size();
-  for (const std::string& a : face_arrays) total += a.size();
-  out.reserve(total);
   size_t from = 0;
-  for (size_t l = 0; l < face_arrays.size(); ++l) {
+  for (size_t l = 0; l < result.lights.size(); ++l) {
     // Only a "faces" key can hold the marker (a name equal to it is a "body" value).
     const std::string key = "\"faces\":", quoted = key + "\"" + face_marker(l) + "\"";
     const size_t at = text.find(quoted, from);
     HEDRA_ASSERT(at != std::string::npos, "shadows_json: face marker not found");
-    out.append(text, from, at - from);
-    out += key;
-    out += face_arrays[l];
+    write(std::string_view(text).substr(from, at - from));
+    write(key + "[");
+    write_faces(result.lights[l]);
+    write("]");
     from = at + quoted.size();
   }
-  out.append(text, from, std::string::npos);
+  write(std::string_view(text).substr(from));
+}
+
+std::string shadows_json(const Scene& scene, const std::string& scene_name,
+                         const ShadowResult& result, bool visible_parts, double ms,
+                         const SunStudyOptions* study_options, const SunStudy* study) {
+  std::string out;
+  write_shadows_json([&out](std::string_view s) { out += s; }, scene, scene_name, result,
+                     visible_parts, ms, study_options, study);
   return out;
 }
 

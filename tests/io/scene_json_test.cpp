@@ -311,5 +311,27 @@ TEST(ReportJson, ShadowFacesSplicedIntoTheDocumentAsOneDump) {
   EXPECT_GT(ground, 1.0);
 }
 
+// write_shadows_json hands the document over a wave of face blocks at a time (64 blocks of
+// 1024 faces): a sphere of 70 688 faces crosses a wave's end, and the pieces must join into the
+// one DOM dump that shadows_json gives, every face once and in order.
+TEST(ReportJson, ShadowFacesWrittenInWavesJoinIntoTheOneDump) {
+  const Scene scene = io::parse_scene("s.json", R"({"version": 1, "bodies": [
+    {"name": "s", "sphere": {"center": [0, 0, 1.2], "radius": 1, "tolerance": 7e-5}}],
+    "lights": [{"type": "point", "position": [3, 2, 6]}]})");
+  const int faces = scene.bodies()[0].body.face_count();
+  ASSERT_GT(faces, 64 * 1024);
+  const ShadowResult result = compute_shadows(scene);
+  std::string joined;
+  int pieces = 0;
+  io::write_shadows_json([&](std::string_view s) { joined += s, ++pieces; }, scene, "s.json", result, false, 2.5);
+  EXPECT_GE(pieces, 70);  // 70 blocks of faces, and the document's parts around them
+  EXPECT_EQ(joined, io::shadows_json(scene, "s.json", result, false, 2.5));
+  const nlohmann::json doc = nlohmann::json::parse(joined);
+  const auto& list = doc["lights"][0]["faces"];
+  ASSERT_EQ(list.size(), static_cast<size_t>(faces));
+  for (int f = 0; f < faces; ++f) ASSERT_EQ(list[static_cast<size_t>(f)]["face"], f);
+  EXPECT_EQ(doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), joined);
+}
+
 }  // namespace
 }  // namespace hedra

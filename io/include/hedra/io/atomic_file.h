@@ -2,7 +2,9 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -26,6 +28,12 @@ class OutputTransaction {
 
   /// Stages one file. \throw IoError naming `path`.
   void add(const std::string& path, const std::string& bytes);
+  /// Stages one file written piece by piece: `produce` is called once with a function that
+  /// appends bytes to the staged file (a report of hundreds of MB never held whole). An
+  /// exception from `produce` removes the staged file and propagates. \throw IoError naming
+  /// `path`.
+  void add(const std::string& path,
+           const std::function<void(const std::function<void(std::string_view)>& write)>& produce);
   /// Stages a directory of files (name, bytes): written into a temporary directory renamed to
   /// `dir` on commit when `dir` does not exist; into `dir` itself, file by file through
   /// temporary names, when it is an existing directory. \throw IoError when `dir` exists and is

@@ -2,7 +2,9 @@
 // the Python module (python/), so both print the same text for the same result.
 #pragma once
 
+#include <functional>
 #include <string>
+#include <string_view>
 
 #include "hedra/scene/scene.h"
 #include "hedra/visibility/roberts.h"
@@ -29,6 +31,14 @@ std::string shadows_json(const Scene& scene, const std::string& scene_name,
                          const ShadowResult& result, bool visible_parts, double ms,
                          const SunStudyOptions* study_options = nullptr,
                          const SunStudy* study = nullptr);
+
+/// shadows_json written piece by piece through `write`, in order (the same bytes), holding
+/// only a block of faces' text at a time: for a file of hundreds of MB. Cost O(output size).
+void write_shadows_json(const std::function<void(std::string_view)>& write, const Scene& scene,
+                        const std::string& scene_name, const ShadowResult& result,
+                        bool visible_parts, double ms,
+                        const SunStudyOptions* study_options = nullptr,
+                        const SunStudy* study = nullptr);
 
 /// The "sun_study" object of shadows_json alone: place, times, step, per step the sun and the
 /// lit fraction of every face, hours of sun per face, the optional grid. Cost O(output size).
