@@ -113,8 +113,18 @@ OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facin
                                  const Viewpoint& view, std::span<const ExactPlane> face_planes) {
   OcclusionVolume out;
   const auto& v = body.vertices();
+  // Sized exactly: reserving a plane per face and edge (160 bytes each) was 36 MB for a
+  // 74 000-face sphere, of which a sixth is used, mapped afresh by malloc on every call: most
+  // of the page faults of hidden lines, and half their time on a machine where faults are dear.
+  const auto is_front = [&](int f) { return facing[static_cast<size_t>(f)] == Facing::Front; };
+  size_t fronts = 0, silhouette = 0;
+  for (int f = 0; f < body.face_count(); ++f) fronts += is_front(f);
+  if (fronts == 0) return out;
+  for (const Edge& e : body.edges()) silhouette += is_front(e.left_face) != is_front(e.right_face);
   std::vector<ExactPlane> planes;
-  planes.reserve(static_cast<size_t>(body.face_count() + body.edge_count()));
+  planes.reserve(fronts + silhouette);
+  out.front_faces.reserve(fronts);
+  out.silhouette.reserve(silhouette);
   // Front faces: their planes, inner side Positive already.
   for (int f = 0; f < body.face_count(); ++f) {
     if (facing[static_cast<size_t>(f)] != Facing::Front) continue;
