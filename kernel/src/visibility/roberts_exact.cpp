@@ -406,14 +406,14 @@ std::vector<Span> face_spans(const Body& body, int face, const ExactPlane& g, co
   return spans;
 }
 
+}  // namespace
+
 Eigen::AlignedBox3d face_box(const Body& body, int face) {
   Eigen::AlignedBox3d box;
   box.setEmpty();
   for (int i : body.faces()[static_cast<size_t>(face)].loops[0]) box.extend(body.vertices()[static_cast<size_t>(i)]);
   return box;
 }
-
-}  // namespace
 
 std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
     std::span<const ExactPlane> planes, const Viewpoint& view, const Vec3& p1, const Vec3& p2) {

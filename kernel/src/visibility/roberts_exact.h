@@ -85,8 +85,11 @@ struct JunctionPart {
 using CandidateQuery =
     std::function<void(const Vec3& a, const Vec3& b, int fa, int fb, Candidates& out)>;
 /// The exact plane (exact_face_plane) of a face, built by the caller on first use: only the
-/// faces near the other body are ever asked for.
+/// faces near the other body are ever asked for (a face whose face_box meets the other body's
+/// bounding box; closed boxes).
 using FacePlane = std::function<const ExactPlane&(int face)>;
+/// The bounding box of a face's outer loop (exact: the vertices' coordinates). Cost O(face).
+Eigen::AlignedBox3d face_box(const Body& body, int face);
 std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          const FacePlane& planes_a, const FacePlane& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
