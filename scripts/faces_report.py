@@ -139,7 +139,11 @@ def faces_scaling(results, docs, quick=False):
                   "`hidden_lines` decides each body's convexity once and keeps the verdict with the "
                   "body, so repeated calls on the same bodies skip it: *first call* is the time on "
                   "freshly built bodies, the one to compare for a single drawing; the ratios are "
-                  "of CPU times.", "",
+                  "of CPU times. The benchmark process sets glibc's allocator as the `hedra` command "
+                  "does (blocks up to 32 MB from the heap, freed memory kept; both libraries run "
+                  "under it): with glibc's defaults every block over 32 MB is mapped afresh on each "
+                  "call, which at 1e-5 cost hedra 258 instead of 110 ms a call on a machine where a "
+                  "page fault takes about 10 µs (no difference at 1e-4).", "",
                   "| t | hedra faces | hedra ms | hedra CPU ms | first call CPU ms | OCCT PolyAlgo ms | "
                   "OCCT CPU ms | OCCT meshing ms | OCCT ÷ hedra (repeated / first call) |",
                   "|---|---|---|---|---|---|---|---|---|"]
