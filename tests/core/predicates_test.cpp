@@ -4,6 +4,7 @@
 
 #include <gmpxx.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -84,6 +85,87 @@ TEST(Predicates, SideOfPlaneAgreesWithRationals) {
   }
   EXPECT_GT(decided, 19000);
   EXPECT_GT(zero, 0);  // some points exactly on their plane
+}
+
+// orient3d and orient_direction against exact rationals (GMP) on nearly coplanar points, where
+// the static filter's bound matters: corners of lat-long quadrilaterals on spheres (planar in
+// exact arithmetic, rounded to double), points rounded onto random planes, and exactly coplanar
+// points, moved by a few ulps or not, at scales from 1e-100 to 1e100 (2^-300 to 2^300). Many of them have a determinant between Shewchuk's
+// bound (7.8e-16 of the permanent) and the 1e-14 the filter used before, so the filter alone
+// decides them now.
+TEST(Predicates, Orient3dAgreesWithRationalsOnNearlyCoplanarPoints) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> unit(-1, 1), angle(0, 6.283185307179586);
+  std::uniform_int_distribution<int> ulps(-2, 2), scale(-100, 100), parts(8, 4000);
+  // Sign of det[b − a, c − a, d − a] (d_is_direction: det[b − a, c − a, d]), differences exact.
+  const auto exact_det = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, bool d_is_direction) {
+    const auto diff = [](const Vec3& x, const Vec3& y, int k) -> mpq_class { return mpq_class(x[k]) - mpq_class(y[k]); };
+    const mpq_class ux = diff(b, a, 0), uy = diff(b, a, 1), uz = diff(b, a, 2);
+    const mpq_class vx = diff(c, a, 0), vy = diff(c, a, 1), vz = diff(c, a, 2);
+    const mpq_class wx = d_is_direction ? mpq_class(d.x()) : diff(d, a, 0),
+                    wy = d_is_direction ? mpq_class(d.y()) : diff(d, a, 1),
+                    wz = d_is_direction ? mpq_class(d.z()) : diff(d, a, 2);
+    return sgn(mpq_class(ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx)));
+  };
+  const auto sign_of = [](int c) { return c > 0 ? Sign::Positive : (c < 0 ? Sign::Negative : Sign::Zero); };
+  int in_window = 0, zero = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double s = std::pow(10.0, scale(random));
+    std::array<Vec3, 4> p;
+    bool perturb = true;
+    if (i % 3 == 2) {
+      // Exactly coplanar: small integers times a power of two on the plane x + 2y − z = k·2^e,
+      // left as they are every other time (orientation exactly zero).
+      std::uniform_int_distribution<int> small(-64, 64);
+      const double e = std::ldexp(1.0, scale(random) * 3);
+      const int k = small(random);
+      for (Vec3& q : p) {
+        const int x = small(random), y = small(random);
+        q = Vec3(x * e, y * e, (x + 2 * y - k) * e);
+      }
+      perturb = i % 2 == 0;
+    } else if (i % 3 == 0) {
+      // A lat-long quadrilateral of a sphere of radius s around a random centre.
+      const Vec3 centre(unit(random) * s, unit(random) * s, unit(random) * s);
+      const int n = parts(random), m = parts(random) / 2 + 2;
+      const double t0 = angle(random) / 2, p0 = angle(random), dt = 3.141592653589793 / m, dp = 6.283185307179586 / n;
+      const auto at = [&](double t, double ph) {
+        return Vec3(centre.x() + s * std::sin(t) * std::cos(ph), centre.y() + s * std::sin(t) * std::sin(ph),
+                    centre.z() + s * std::cos(t));
+      };
+      p = {at(t0, p0), at(t0 + dt, p0), at(t0 + dt, p0 + dp), at(t0, p0 + dp)};
+    } else {
+      // Four points rounded onto a random plane through the origin of the box.
+      const Vec3 n(unit(random), unit(random), unit(random));
+      if (std::abs(n.z()) < 0.1) continue;
+      for (Vec3& q : p) {
+        const double x = unit(random) * s, y = unit(random) * s;
+        q = Vec3(x, y, -(n.x() * x + n.y() * y) / n.z());
+      }
+    }
+    if (perturb)
+      for (Vec3& q : p)
+        for (int k = 0; k < 3; ++k)
+          for (int u = ulps(random); u != 0; u += u > 0 ? -1 : 1) q[k] = std::nextafter(q[k], u > 0 ? INFINITY : -INFINITY);
+    const Vec3 u = p[1] - p[0], v = p[2] - p[0], w = p[3] - p[0];
+    // orient3d(a, b, c, d) is the sign of det[b − a, c − a, d − a] (Positive above a
+    // counter-clockwise a, b, c).
+    const int c = exact_det(p[0], p[1], p[2], p[3], false);
+    ASSERT_EQ(orient3d(p[0], p[1], p[2], p[3]), sign_of(c)) << "case " << i;
+    // orient_direction(a, b, c, d): the same with d a direction, not a point.
+    const int cd = exact_det(p[0], p[1], p[2], p[3], true);
+    ASSERT_EQ(orient_direction(p[0], p[1], p[2], p[3]), sign_of(cd)) << "case " << i;
+    zero += c == 0;
+    const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
+                 m2 = v.x() * w.y() - v.y() * w.x();
+    const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
+    const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
+                             std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
+                             std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
+    in_window += std::abs(det) > 7.8e-16 * permanent && std::abs(det) <= 1e-14 * permanent;
+  }
+  EXPECT_GT(in_window, 1000);
+  EXPECT_GT(zero, 1000);
 }
 
 TEST(Predicates, SegmentTriangle) {

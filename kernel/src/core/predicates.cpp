@@ -39,10 +39,18 @@ Vec2 drop(const Vec3& p, int axis) {
 }
 
 // Static filter for the sign of det[u, v, w], u, v, w as given in double (differences already
-// rounded): Shewchuk's bound for orient3d is (7 + 56u)·u times the permanent of the rounded
-// differences; 1e-14 leaves a wide margin. nullopt when it cannot decide, or when the
-// permanent is so small or large that underflow or overflow could void the bound.
+// rounded, or exact): Shewchuk's bound for orient3d, errboundA = (7 + 56u)·u times the permanent
+// of the rounded differences, both evaluated in double in his order (three terms, each a
+// difference times a 2 × 2 minor, summed left to right; no fused multiply-add: the build has
+// -ffp-contract=off). J. R. Shewchuk, "Adaptive precision floating-point arithmetic and fast
+// robust geometric predicates", 1997, §4.3, and his predicates.c. It was 1e-14 (13 × larger):
+// the lat-long quadrilaterals of a tessellated sphere, whose orientation is 1e-15 of the
+// permanent, then all went to CGAL's interval and exact stages. nullopt when it cannot decide,
+// or when the permanent is so small or large that underflow or overflow could void the bound
+// (above 1e-250, underflow adds at most a few 2^-1074 to the sum, far below the bound).
 std::optional<Sign> det3_filter(const Vec3& u, const Vec3& v, const Vec3& w) {
+  constexpr double kHalfUlp = 0.5 * std::numeric_limits<double>::epsilon();  // 2^-53
+  constexpr double kErrboundA = (7.0 + 56.0 * kHalfUlp) * kHalfUlp;
   const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
                m2 = v.x() * w.y() - v.y() * w.x();
   const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
@@ -50,7 +58,7 @@ std::optional<Sign> det3_filter(const Vec3& u, const Vec3& v, const Vec3& w) {
                            std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
                            std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
   if (!(permanent > 1e-250) || !(permanent < 1e250)) return std::nullopt;
-  const double bound = 1e-14 * permanent;
+  const double bound = kErrboundA * permanent;
   if (det > bound) return Sign::Positive;
   if (det < -bound) return Sign::Negative;
   return std::nullopt;
