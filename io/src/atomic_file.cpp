@@ -23,17 +23,33 @@ fs::path temporary_name(const fs::path& target) {
   return temp;
 }
 
-void write_bytes(const fs::path& file, const std::string& name, const std::string& bytes) {
+using Producer = std::function<void(const std::function<void(std::string_view)>& write)>;
+
+// Writes what `produce` hands over to `file`; on any failure (or an exception from `produce`)
+// the file is removed.
+void write_produced(const fs::path& file, const std::string& name, const Producer& produce) {
   std::ofstream out(file, std::ios::binary | std::ios::trunc);
   if (!out) throw IoError(name + ": cannot open for writing");
-  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  out.flush();
-  if (!out) {
+  const auto discard = [&] {
     out.close();
     std::error_code ignored;
     fs::remove(file, ignored);
+  };
+  try {
+    produce([&out](std::string_view bytes) { out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+  } catch (...) {
+    discard();
+    throw;
+  }
+  out.flush();
+  if (!out) {
+    discard();
     throw IoError(name + ": write error");
   }
+}
+
+void write_bytes(const fs::path& file, const std::string& name, const std::string& bytes) {
+  write_produced(file, name, [&bytes](const std::function<void(std::string_view)>& write) { write(bytes); });
 }
 
 }  // namespace
@@ -53,40 +69,15 @@ OutputTransaction::~OutputTransaction() {
 }
 
 void OutputTransaction::add(const std::string& path, const std::string& bytes) {
-  const fs::path target(path);
-  std::error_code ec;
-  if (fs::is_directory(target, ec)) throw IoError(path + ": is a directory");
-  const fs::path temp = temporary_name(target);
-  write_bytes(temp, path, bytes);
-  staged_.push_back({temp, target, path});
+  add(path, [&bytes](const std::function<void(std::string_view)>& write) { write(bytes); });
 }
 
-void OutputTransaction::add(
-    const std::string& path,
-    const std::function<void(const std::function<void(std::string_view)>& write)>& produce) {
+void OutputTransaction::add(const std::string& path, const Producer& produce) {
   const fs::path target(path);
   std::error_code ec;
   if (fs::is_directory(target, ec)) throw IoError(path + ": is a directory");
   const fs::path temp = temporary_name(target);
-  std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-  if (!out) throw IoError(path + ": cannot open for writing");
-  const auto discard = [&] {
-    out.close();
-    std::error_code ignored;
-    fs::remove(temp, ignored);
-  };
-  try {
-    produce([&out](std::string_view bytes) { out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
-  } catch (...) {
-    discard();
-    throw;
-  }
-  out.flush();
-  if (!out) {
-    discard();
-    throw IoError(path + ": write error");
-  }
-  out.close();
+  write_produced(temp, path, produce);
   staged_.push_back({temp, target, path});
 }
 

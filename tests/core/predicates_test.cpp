@@ -90,14 +90,14 @@ TEST(Predicates, SideOfPlaneAgreesWithRationals) {
 // orient3d and orient_direction against exact rationals (GMP) on nearly coplanar points, where
 // the static filter's bound matters: corners of lat-long quadrilaterals on spheres (planar in
 // exact arithmetic, rounded to double), points rounded onto random planes, and exactly coplanar
-// points, moved by a few ulps or not, at scales from 1e-100 to 1e100 (2^-300 to 2^300). Many of them have a determinant between Shewchuk's
-// bound (7.8e-16 of the permanent) and the 1e-14 the filter used before, so the filter alone
-// decides them now.
+// points, moved by a few ulps or not, at scales from 1e-100 to 1e100 (2^-300 to 2^300). Many
+// have a determinant between Shewchuk's bound (7.8e-16 of the permanent), where the filter
+// decides now, and the 1e-14 it used before.
 TEST(Predicates, Orient3dAgreesWithRationalsOnNearlyCoplanarPoints) {
   std::mt19937_64 random(11);
   std::uniform_real_distribution<double> unit(-1, 1), angle(0, 6.283185307179586);
   std::uniform_int_distribution<int> ulps(-2, 2), scale(-100, 100), parts(8, 4000);
-  // Sign of det[b − a, c − a, d − a] (d_is_direction: det[b − a, c − a, d]), differences exact.
+  // det[b − a, c − a, d − a] (d_is_direction: det[b − a, c − a, d]), differences exact.
   const auto exact_det = [](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, bool d_is_direction) {
     const auto diff = [](const Vec3& x, const Vec3& y, int k) -> mpq_class { return mpq_class(x[k]) - mpq_class(y[k]); };
     const mpq_class ux = diff(b, a, 0), uy = diff(b, a, 1), uz = diff(b, a, 2);
@@ -105,7 +105,7 @@ TEST(Predicates, Orient3dAgreesWithRationalsOnNearlyCoplanarPoints) {
     const mpq_class wx = d_is_direction ? mpq_class(d.x()) : diff(d, a, 0),
                     wy = d_is_direction ? mpq_class(d.y()) : diff(d, a, 1),
                     wz = d_is_direction ? mpq_class(d.z()) : diff(d, a, 2);
-    return sgn(mpq_class(ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx)));
+    return mpq_class(ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx));
   };
   const auto sign_of = [](int c) { return c > 0 ? Sign::Positive : (c < 0 ? Sign::Negative : Sign::Zero); };
   int in_window = 0, zero = 0;
@@ -147,22 +147,19 @@ TEST(Predicates, Orient3dAgreesWithRationalsOnNearlyCoplanarPoints) {
       for (Vec3& q : p)
         for (int k = 0; k < 3; ++k)
           for (int u = ulps(random); u != 0; u += u > 0 ? -1 : 1) q[k] = std::nextafter(q[k], u > 0 ? INFINITY : -INFINITY);
-    const Vec3 u = p[1] - p[0], v = p[2] - p[0], w = p[3] - p[0];
     // orient3d(a, b, c, d) is the sign of det[b − a, c − a, d − a] (Positive above a
     // counter-clockwise a, b, c).
-    const int c = exact_det(p[0], p[1], p[2], p[3], false);
-    ASSERT_EQ(orient3d(p[0], p[1], p[2], p[3]), sign_of(c)) << "case " << i;
+    const mpq_class det = exact_det(p[0], p[1], p[2], p[3], false);
+    ASSERT_EQ(orient3d(p[0], p[1], p[2], p[3]), sign_of(sgn(det))) << "case " << i;
     // orient_direction(a, b, c, d): the same with d a direction, not a point.
-    const int cd = exact_det(p[0], p[1], p[2], p[3], true);
-    ASSERT_EQ(orient_direction(p[0], p[1], p[2], p[3]), sign_of(cd)) << "case " << i;
-    zero += c == 0;
-    const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
-                 m2 = v.x() * w.y() - v.y() * w.x();
-    const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
-    const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
-                             std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
-                             std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
-    in_window += std::abs(det) > 7.8e-16 * permanent && std::abs(det) <= 1e-14 * permanent;
+    ASSERT_EQ(orient_direction(p[0], p[1], p[2], p[3]), sign_of(sgn(exact_det(p[0], p[1], p[2], p[3], true))))
+        << "case " << i;
+    zero += sgn(det) == 0;
+    // The window between the two bounds, measured against |b − a|·|c − a|·|d − a| (the
+    // permanent's order of magnitude).
+    const double size = (p[1] - p[0]).norm() * (p[2] - p[0]).norm() * (p[3] - p[0]).norm();
+    const double relative = std::abs(det.get_d()) / size;
+    in_window += relative > 1e-15 && relative <= 1e-14;
   }
   EXPECT_GT(in_window, 1000);
   EXPECT_GT(zero, 1000);

@@ -161,7 +161,6 @@ class Certificate {
   static constexpr size_t kChunk = 4096;
   enum FaceKind : char { kPlanar, kSplit02, kSplit13, kUnknown };
 
-
   const Vec3& p(int i) const { return v_[static_cast<size_t>(i)]; }
 
   // Stage 1 for face f: planar, a rounded quadrilateral split along diagonal q0–q2 (q3 strictly

@@ -127,17 +127,14 @@ OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facin
   out.silhouette.reserve(silhouette);
   // Front faces: their planes, inner side Positive already.
   for (int f = 0; f < body.face_count(); ++f) {
-    if (facing[static_cast<size_t>(f)] != Facing::Front) continue;
+    if (!is_front(f)) continue;
     out.front_faces.push_back(f);
     planes.push_back(face_planes.empty() ? exact_face_plane(body, f)
                                          : face_planes[static_cast<size_t>(f)]);
   }
-  if (out.front_faces.empty()) return out;
   // Silhouette edges: between a front face and one that is not.
   for (const Edge& e : body.edges()) {
-    if ((facing[static_cast<size_t>(e.left_face)] == Facing::Front) ==
-        (facing[static_cast<size_t>(e.right_face)] == Facing::Front))
-      continue;
+    if (is_front(e.left_face) == is_front(e.right_face)) continue;
     out.silhouette.emplace_back(e.v0, e.v1);
     const std::optional<ExactPlane> plane =
         silhouette_plane(v[static_cast<size_t>(e.v0)], v[static_cast<size_t>(e.v1)], view);
