@@ -342,6 +342,36 @@ TEST(IsConvex, LocallyConvexSurfaceWoundTwiceIsNotConvex) {
       EXPECT_NE(wound.face_side(e.left_face, wound.vertices()[static_cast<size_t>(x)]), Sign::Negative);
 }
 
+TEST(IsConvex, WindingCountedAlongARayThroughEdgesAndCornersFallsBackToTheSolidAngle) {
+  // The certificate counts how many faces one ray from the centre crosses (exact); a ray
+  // through an edge or a corner cannot be counted, and the floating-point solid-angle sum
+  // decides instead. Both must give the same verdicts.
+  const Body cube = box({-1, -1, -1}, {1, 1, 1});
+  const Body ball = sphere({0, 0, 0}, 1, 1e-2);
+  for (const Vec3& ray : {Vec3(0.3, 0.2, 1), Vec3(1, 1, 0), Vec3(1, 1, 1), Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
+    SCOPED_TRACE(::testing::Message() << "ray " << ray.transpose());
+    EXPECT_EQ(internal::certify_convexity_along(cube, ray), ConvexityCertificate::Convex);
+    EXPECT_EQ(internal::certify_convexity_along(ball, ray), ConvexityCertificate::Convex);
+  }
+  // The heptagram bipyramid (below) winds twice: two crossings along a generic ray; along the
+  // axis the ray meets the apex, and along (1, 0, 0) an equator vertex.
+  std::vector<Vec3> v = {{0, 0, 1}, {0, 0, -1}};
+  for (int i = 0; i < 7; ++i) {
+    const double a = 4 * std::numbers::pi * i / 7;
+    v.emplace_back(std::cos(a), std::sin(a), 0);
+  }
+  std::vector<Face> f;
+  for (int i = 0; i < 7; ++i) {
+    f.push_back(Face{2 + i, 2 + (i + 1) % 7, 0});
+    f.push_back(Face{2 + (i + 1) % 7, 2 + i, 1});
+  }
+  const Body wound(v, f);
+  for (const Vec3& ray : {Vec3(0.3, 0.2, 0.5), Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
+    SCOPED_TRACE(::testing::Message() << "ray " << ray.transpose());
+    EXPECT_EQ(internal::certify_convexity_along(wound, ray), ConvexityCertificate::Undecided);
+  }
+}
+
 TEST(IsConvex, FloatRoundedTriangleSphereListsTheSameFacesAsTheDefinition) {
   // A sphere's triangles with coordinates rounded to float (as binary STL stores them): many
   // diagonals of the former quadrilaterals become slightly reflex, so the body is not convex,

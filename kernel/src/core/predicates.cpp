@@ -64,25 +64,34 @@ std::optional<Sign> det3_filter(const Vec3& u, const Vec3& v, const Vec3& w) {
   return std::nullopt;
 }
 
+// The exact stages of orient3d (d a point) and orient_direction (d a direction): the sign of
+// det[b − a, c − a, d − a] or det[b − a, c − a, d] in interval arithmetic, then in Mpzf when
+// the interval holds zero. Out of line, so that the filtered callers stay small functions.
+[[gnu::noinline, gnu::cold]] Sign det3_exact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d,
+                                            bool d_is_point) {
+  return internal::filtered_sign([&](auto zero) {
+    using T = decltype(zero);
+    T u[3], v[3], w[3];
+    for (int i = 0; i < 3; ++i) {
+      u[i] = T(b[i]) - T(a[i]);
+      v[i] = T(c[i]) - T(a[i]);
+      w[i] = d_is_point ? T(d[i]) - T(a[i]) : T(d[i]);
+    }
+    return u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+           u[2] * (v[0] * w[1] - v[1] * w[0]);
+  });
+}
+
 }  // namespace
 
 Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   if (const auto s = det3_filter(b - a, c - a, d - a)) return *s;
-  return to_sign(CGAL::orientation(cg(a), cg(b), cg(c), cg(d)));
+  return det3_exact(a, b, c, d, true);
 }
 
 Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   if (const auto s = det3_filter(b - a, c - a, d)) return *s;
-  using Q = CGAL::Mpzf;
-  Q u[3], v[3], w[3];
-  for (int i = 0; i < 3; ++i) {
-    u[i] = Q(b[i]) - Q(a[i]);
-    v[i] = Q(c[i]) - Q(a[i]);
-    w[i] = Q(d[i]);
-  }
-  const Q det = u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
-                u[2] * (v[0] * w[1] - v[1] * w[0]);
-  return to_sign(CGAL::sign(det));
+  return det3_exact(a, b, c, d, false);
 }
 
 bool parallel_to(const Vec3& a, const Vec3& b, const Vec3& d) {

@@ -60,7 +60,8 @@ int dominant_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
 // winding number, an integer read from a floating-point sum whose error is bounded explicitly.
 class Certificate {
  public:
-  explicit Certificate(const Body& body) : body_(body), v_(body.vertices()), faces_(body.faces()) {}
+  explicit Certificate(const Body& body, std::optional<Vec3> ray = std::nullopt)
+      : body_(body), v_(body.vertices()), faces_(body.faces()), ray_(ray) {}
 
   // Every stage runs in parallel over fixed chunks of kChunk faces, edges or pieces; where the
   // sequential certificate stops at the first failure, the failure of the lowest index wins, and
@@ -79,28 +80,38 @@ class Certificate {
       }
     });
     if (unknown) return Verdict::Unknown;
-    first_piece_.assign(static_cast<size_t>(n), -1);
-    split_.assign(static_cast<size_t>(n), 0);
-    pieces_.reserve(static_cast<size_t>(n));
+    // Each face's first piece from a prefix sum over its piece count (two for a split
+    // quadrilateral), then the pieces written in parallel, in face order.
+    first_piece_.resize(static_cast<size_t>(n));
+    split_.resize(static_cast<size_t>(n));
+    int count = 0;
     for (int f = 0; f < n; ++f) {
-      const Face& face = faces_[static_cast<size_t>(f)];
-      first_piece_[static_cast<size_t>(f)] = static_cast<int>(pieces_.size());
       const FaceKind k = kind[static_cast<size_t>(f)];
-      if (k == kPlanar) {
-        pieces_.push_back({body_.support(f), f, face.loops.size() == 1 && face.loops[0].size() == 3});
-        continue;
-      }
-      const auto& q = face.loops[0];
-      split_[static_cast<size_t>(f)] = k == kSplit02 ? 1 : 2;
-      if (k == kSplit02) {
-        pieces_.push_back({{q[0], q[1], q[2]}, f, true});
-        pieces_.push_back({{q[0], q[2], q[3]}, f, true});
-      } else {
-        pieces_.push_back({{q[0], q[1], q[3]}, f, true});
-        pieces_.push_back({{q[1], q[2], q[3]}, f, true});
-      }
-      rounded_.push_back(f);
+      first_piece_[static_cast<size_t>(f)] = count;
+      split_[static_cast<size_t>(f)] = k == kPlanar ? 0 : k == kSplit02 ? 1 : 2;
+      count += k == kPlanar ? 1 : 2;
+      if (k != kPlanar) rounded_.push_back(f);
     }
+    pieces_.resize(static_cast<size_t>(count));
+    parallel_chunks(static_cast<size_t>(n), kChunk, [&](size_t, size_t begin, size_t end) {
+      for (size_t f = begin; f != end; ++f) {
+        const Face& face = faces_[f];
+        Piece* out = &pieces_[static_cast<size_t>(first_piece_[f])];
+        const int fi = static_cast<int>(f);
+        if (!split_[f]) {
+          out[0] = {body_.support(fi), fi, face.loops.size() == 1 && face.loops[0].size() == 3};
+          continue;
+        }
+        const auto& q = face.loops[0];
+        if (split_[f] == 1) {
+          out[0] = {{q[0], q[1], q[2]}, fi, true};
+          out[1] = {{q[0], q[2], q[3]}, fi, true};
+        } else {
+          out[0] = {{q[0], q[1], q[3]}, fi, true};
+          out[1] = {{q[1], q[2], q[3]}, fi, true};
+        }
+      }
+    });
 
     // Stage 2: local convexity at every edge between pieces. Quadrilateral diagonals are
     // convex by construction; the body's edges are tested here. The first failing edge decides.
@@ -125,36 +136,32 @@ class Certificate {
     for (size_t c = 0; c < chunks; ++c)
       if (failed[c]) return chunk_verdict[c];
 
-    // Stage 3: a centre strictly inside every piece's plane.
+    // Stages 3 and 4, in one pass over the pieces: a centre o strictly inside every piece's
+    // plane, and the surface winds once around o.
     Vec3 sum = Vec3::Zero();
     for (const Vec3& x : v_) sum += x;
-    const Vec3 o = sum / static_cast<double>(v_.size());
-    std::atomic<bool> outside{false};
-    parallel_chunks(pieces_.size(), kChunk, [&](size_t, size_t begin, size_t end) {
-      for (size_t k = begin; k != end && !outside.load(std::memory_order_relaxed); ++k) {
-        const Piece& piece = pieces_[k];
-        if (orient3d(p(piece.triple[0]), p(piece.triple[1]), p(piece.triple[2]), o) != Sign::Negative)
-          outside = true;
-      }
-    });
-    if (outside) return Verdict::Unknown;
-
-    // Stage 4: the surface winds once around o.
-    if (!winds_once(o)) return Verdict::Unknown;
+    if (!winds_once(sum / static_cast<double>(v_.size()))) return Verdict::Unknown;
 
     // Stage 5: the surface is convex. A planar face's support plane is a piece plane, so no
     // vertex lies outside it. A rounded quadrilateral's support plane (a, b, c) is not: check
     // it by a local search (see rounded_face_convex).
-    if (!rounded_.empty()) {
-      build_incidence();
-      std::atomic<bool> reflex_found{false};
-      parallel_chunks(rounded_.size(), kChunk, [&](size_t, size_t begin, size_t end) {
-        for (size_t k = begin; k != end && !reflex_found.load(std::memory_order_relaxed); ++k)
-          if (!rounded_face_convex(rounded_[k])) reflex_found = true;
-      });
-      if (reflex_found) return Verdict::NotConvex;
-    }
-    return Verdict::Convex;
+    // Most are settled in O(1), their support plane being one of their pieces' planes; the
+    // vertex-face incidence is built only for the others.
+    std::vector<char> settled(rounded_.size());
+    parallel_chunks(rounded_.size(), kChunk, [&](size_t, size_t begin, size_t end) {
+      for (size_t k = begin; k != end; ++k) settled[k] = support_is_piece(rounded_[k]);
+    });
+    std::vector<int> searched;
+    for (size_t k = 0; k < rounded_.size(); ++k)
+      if (!settled[k]) searched.push_back(rounded_[k]);
+    if (searched.empty()) return Verdict::Convex;
+    build_incidence();
+    std::atomic<bool> reflex_found{false};
+    parallel_chunks(searched.size(), kChunk, [&](size_t, size_t begin, size_t end) {
+      for (size_t k = begin; k != end && !reflex_found.load(std::memory_order_relaxed); ++k)
+        if (!rounded_face_convex(searched[k])) reflex_found = true;
+    });
+    return reflex_found ? Verdict::NotConvex : Verdict::Convex;
   }
 
  private:
@@ -174,21 +181,12 @@ class Certificate {
     const Sign d = quad ? orient3d(p(face.loops[0][0]), p(face.loops[0][1]), p(face.loops[0][2]),
                                    p(face.loops[0][3]))
                         : Sign::Zero;
-    if (d == Sign::Zero && planar(face, body_.support(f))) return kPlanar;
-    if (!quad || d == Sign::Zero) return kUnknown;
-    const auto& q = face.loops[0];
-    FaceKind k = kUnknown;
-    std::array<std::array<int, 3>, 2> t;
-    if (d == Sign::Negative) {  // q3 strictly inside plane (q0, q1, q2)
-      k = kSplit02;
-      t = {{{q[0], q[1], q[2]}, {q[0], q[2], q[3]}}};
-    } else {  // orient3d(q0, q1, q3, q2) = −d: q2 strictly inside plane (q0, q1, q3)
-      k = kSplit13;
-      t = {{{q[0], q[1], q[3]}, {q[1], q[2], q[3]}}};
-    }
-    for (const auto& x : t)
-      if (collinear(p(x[0]), p(x[1]), p(x[2]))) return kUnknown;
-    return k;
+    if (quad && d == Sign::Zero) return kPlanar;  // the fourth point on the support triple's plane
+    if (!quad) return planar(face, body_.support(f)) ? kPlanar : kUnknown;
+    // d ≠ 0, so no three of the four points are collinear: both triangles of either split are
+    // proper.
+    return d == Sign::Negative ? kSplit02 : kSplit13;  // q3 strictly inside plane (q0, q1, q2),
+                                                       // or q2 strictly inside (q0, q1, q3)
   }
 
   // Stage 2 for one edge: nullopt when it is locally convex (or flat), else the verdict.
@@ -283,12 +281,78 @@ class Certificate {
     return Verdict::Unknown;
   }
 
-  // Total signed solid angle of the surface seen from o, in units of 4π, is 1. Each triangle
-  // (of a piece, or of a fan over a face loop) contributes 2·atan2(|det|, d) (Van Oosterom and
-  // Strackee 1983) with the sign of the exact orient3d, so that o close to a face plane cannot
-  // flip a term from +2π to −2π. The error of each term is bounded from the rounding of det
-  // and d; the integer is accepted only when the bound leaves no doubt.
+  // Stages 3 and 4: o lies strictly inside every piece's plane (exact orient3d on the piece's
+  // triple), and the surface winds once around o. Given the first, the central projection from o
+  // maps each piece onto the sphere of directions keeping its orientation, and folds at no edge
+  // (a locally convex edge's wedge contains o), so it is a branched covering of that sphere
+  // whose degree is the winding number: the number of pieces a ray from o crosses, here along one
+  // direction r, each crossing decided by orient_direction on the piece's corners (exact). Only
+  // when r meets an edge or corner of a piece does the floating-point solid-angle sum decide.
+  // Cost O(pieces): one orient3d and about two orient_direction a piece.
   bool winds_once(const Vec3& o) const {
+    struct Partial {
+      int crossings = 0;
+      bool inside = true, degenerate = false;
+    };
+    // Toward a point inside piece 0, with weights no regular mesh lines up with.
+    const auto& t0 = pieces_.front().triple;
+    const Vec3 r = ray_ ? *ray_ : 0.4142 * p(t0[0]) + 0.3183 * p(t0[1]) + 0.2675 * p(t0[2]) - o;
+    const size_t chunks = (pieces_.size() + kChunk - 1) / kChunk;
+    std::vector<Partial> partial(chunks);
+    parallel_chunks(pieces_.size(), kChunk, [&](size_t c, size_t begin, size_t end) {
+      Partial& part = partial[c];
+      // The ray's crossings of triangle (a, b, c) whose orientation seen from o is −facing:
+      // ±1 through its interior (r = Σ λ_i (corner_i − o), all λ_i > 0), 0 when some λ_i < 0;
+      // the ray on its boundary is degenerate.
+      auto crossing = [&](int ia, int ib, int ic, Sign facing) {
+        if (facing == Sign::Zero) return 0;  // a fan triangle over collinear vertices
+        const Sign hit = -facing;            // the sign of det[a − o, b − o, r] inside
+        bool zero = false;
+        for (const auto& [x, y] : {std::pair{ia, ib}, std::pair{ib, ic}, std::pair{ic, ia}}) {
+          const Sign s = orient_direction(o, p(x), p(y), r);
+          if (s == -hit) return 0;
+          zero = zero || s == Sign::Zero;
+        }
+        if (zero) part.degenerate = true;
+        return zero ? 0 : hit == Sign::Positive ? 1 : -1;
+      };
+      for (size_t k = begin; k != end; ++k) {
+        const Piece& piece = pieces_[k];
+        const auto& t = piece.triple;
+        const Sign inside = orient3d(p(t[0]), p(t[1]), p(t[2]), o);
+        if (inside != Sign::Negative) {
+          part.inside = false;
+          return;
+        }
+        if (piece.triangle) {
+          part.crossings += crossing(t[0], t[1], t[2], inside);
+          continue;
+        }
+        // A planar face: the signed crossings of its loops' fans, its winding number about the
+        // point where r meets its plane.
+        for (const auto& loop : faces_[static_cast<size_t>(piece.face)].loops)
+          for (size_t i = 1; i + 1 < loop.size(); ++i)
+            part.crossings += crossing(loop[0], loop[i], loop[i + 1],
+                                       orient3d(p(loop[0]), p(loop[i]), p(loop[i + 1]), o));
+      }
+    });
+    int crossings = 0;
+    bool degenerate = false;
+    for (const Partial& part : partial) {
+      if (!part.inside) return false;
+      crossings += part.crossings;
+      degenerate = degenerate || part.degenerate;
+    }
+    return degenerate ? winding_sum_is_one(o) : crossings == 1;
+  }
+
+  // The surface's total signed solid angle seen from o, in units of 4π, is 1, for o strictly
+  // inside every piece's plane (winds_once). Each triangle (of a piece, or of a fan over a face
+  // loop) contributes 2·atan2(|det|, d) (Van Oosterom and Strackee 1983) with the sign of the
+  // exact orient3d, so that o close to a face plane cannot flip a term from +2π to −2π (for a
+  // triangle piece that sign is known). The error of each term is bounded from the rounding of
+  // det and d; the integer is accepted only when the bound leaves no doubt.
+  bool winding_sum_is_one(const Vec3& o) const {
     constexpr double kPi = 3.14159265358979323846;
     struct Partial {
       double total = 0, error = 0;
@@ -298,8 +362,8 @@ class Certificate {
     std::vector<Partial> partial(chunks);
     parallel_chunks(pieces_.size(), kChunk, [&](size_t c, size_t begin, size_t end) {
       Partial& part = partial[c];
-      auto add = [&](int ia, int ib, int ic) {
-        const Sign s = orient3d(p(ia), p(ib), p(ic), o);
+      // s: the exact orient3d(a, b, c, o) when the caller knows it.
+      auto add = [&](int ia, int ib, int ic, Sign s) {
         if (s == Sign::Zero) return true;  // a fan triangle over collinear vertices
         const Vec3 a = p(ia) - o, b = p(ib) - o, cc = p(ic) - o;
         const double la = a.norm(), lb = b.norm(), lc = cc.norm();
@@ -317,12 +381,14 @@ class Certificate {
       };
       for (size_t k = begin; k != end && part.ok; ++k) {
         const Piece& piece = pieces_[k];
-        if (piece.triangle) {
-          part.ok = add(piece.triple[0], piece.triple[1], piece.triple[2]);
+        const auto& t = piece.triple;
+        if (piece.triangle) {  // o is strictly inside its plane (winds_once)
+          part.ok = add(t[0], t[1], t[2], Sign::Negative);
           continue;
         }
         for (const auto& loop : faces_[static_cast<size_t>(piece.face)].loops)
-          for (size_t i = 1; i + 1 < loop.size() && part.ok; ++i) part.ok = add(loop[0], loop[i], loop[i + 1]);
+          for (size_t i = 1; i + 1 < loop.size() && part.ok; ++i)
+            part.ok = add(loop[0], loop[i], loop[i + 1], orient3d(p(loop[0]), p(loop[i]), p(loop[i + 1]), o));
       }
     });
     // The chunks' sums in chunk order: fewer additions than terms, each covered like a term's
@@ -349,20 +415,11 @@ class Certificate {
         for (int x : loop) incident_[static_cast<size_t>(fill[static_cast<size_t>(x)]++)] = static_cast<int>(f);
   }
 
-  // Face f's support plane h (through a, b, c) against the vertices not on f, given that the
-  // surface is convex (K its solid). φ = the side of h. If some vertex not on f had φ > 0, the
-  // vertices with φ > 0 would form a set connected through shared faces (on a convex surface,
-  // a vertex that is not a maximum of a linear function has a neighbour across a face with a
-  // larger value, and the maxima form a face of K), so either it contains a vertex of f with
-  // φ > 0 and a face-neighbour of it off f, or it contains none and a (φ = 0, not a maximum)
-  // has such a neighbour. So the faces around f's vertices with φ > 0 decide when there are
-  // any, and the faces around a when there are none. Cost O(size of those stars).
-  bool rounded_face_convex(int f) const {
+  // The support triple of rounded face f is often one of its two pieces (support_triple takes
+  // a diagonal), in the same cyclic order: then its plane is a piece plane of the convex
+  // surface, and no vertex is outside it. O(1).
+  bool support_is_piece(int f) const {
     const auto& s = body_.support(f);
-    const auto& q = faces_[static_cast<size_t>(f)].loops[0];
-    // The support triple is often one of f's two pieces (support_triple takes a diagonal), in
-    // the same cyclic order: then h is a piece plane of the convex surface, and no vertex is
-    // outside it. O(1).
     const int first = first_piece_[static_cast<size_t>(f)];
     for (int k = first; k < first + 2; ++k) {
       const auto& t = pieces_[static_cast<size_t>(k)].triple;
@@ -371,6 +428,21 @@ class Certificate {
             t[static_cast<size_t>((r + 2) % 3)] == s[2])
           return true;
     }
+    return false;
+  }
+
+  // Face f's support plane h (through a, b, c) against the vertices not on f, given that the
+  // surface is convex (K its solid). φ = the side of h. If some vertex not on f had φ > 0, the
+  // vertices with φ > 0 would form a set connected through shared faces (on a convex surface,
+  // a vertex that is not a maximum of a linear function has a neighbour across a face with a
+  // larger value, and the maxima form a face of K), so either it contains a vertex of f with
+  // φ > 0 and a face-neighbour of it off f, or it contains none and a (φ = 0, not a maximum)
+  // has such a neighbour. So the faces around f's vertices with φ > 0 decide when there are
+  // any, and the faces around a when there are none. Cost O(size of those stars).
+  // \pre build_incidence(); f's support triple is not one of its pieces (support_is_piece).
+  bool rounded_face_convex(int f) const {
+    const auto& s = body_.support(f);
+    const auto& q = faces_[static_cast<size_t>(f)].loops[0];
     auto phi = [&](int x) { return orient3d(p(s[0]), p(s[1]), p(s[2]), p(x)); };
     auto on_f = [&](int x) { return x == q[0] || x == q[1] || x == q[2] || x == q[3]; };
     auto star = [&](int x) {
@@ -399,6 +471,7 @@ class Certificate {
   const Body& body_;
   const std::vector<Vec3>& v_;
   const std::vector<Face>& faces_;
+  std::optional<Vec3> ray_;  // the degree's direction, when a test sets it
   std::vector<Piece> pieces_;
   std::vector<int> first_piece_;
   std::vector<char> split_;
@@ -563,14 +636,20 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
 
 }  // namespace
 
-ConvexityCertificate certify_convexity(const Body& body) {
-  switch (Certificate(body).run()) {
+ConvexityCertificate certify_convexity(const Body& body) { return internal::certify_convexity_along(body, std::nullopt); }
+
+namespace internal {
+
+ConvexityCertificate certify_convexity_along(const Body& body, const std::optional<Vec3>& ray) {
+  switch (Certificate(body, ray).run()) {
     case Verdict::Convex: return ConvexityCertificate::Convex;
     case Verdict::NotConvex: return ConvexityCertificate::NotConvex;
     case Verdict::Unknown: break;
   }
   return ConvexityCertificate::Undecided;
 }
+
+}  // namespace internal
 
 bool is_convex(const Body& body) {
   // Decided once per body (Body::convexity_memo): hidden lines and shadows ask on every call.

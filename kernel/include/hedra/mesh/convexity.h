@@ -1,6 +1,7 @@
 // Convexity test (docs/algorithms.md §5.1): is a body convex with respect to each of its faces?
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "hedra/core/body.h"
@@ -25,9 +26,12 @@ struct ConvexityReport {
 /// edge is locally convex (the dihedral sign from orient3d of one face's support triple and a
 /// vertex of the neighbour on the neighbour's side of the edge; coplanar neighbours must not
 /// fold back); (2) a centre point o lies strictly on the inner side of every face plane;
-/// (3) the surface winds exactly once around o (its total signed solid angle seen from o is
-/// 4π: the central projection from o is then a bijection onto the sphere of directions,
-/// which rules out surfaces that are locally convex but wound twice around o). Then the
+/// (3) the surface winds exactly once around o: given (1) and (2), the central projection
+/// from o onto the sphere of directions is a covering, branched at most at vertices, so a ray
+/// from o crosses as many faces as the surface winds; one ray's crossings are counted with
+/// exact orientations (when the ray meets an edge or a corner, the total signed solid angle
+/// seen from o, 4π, is summed in floating point with a bound on its error). This rules out
+/// surfaces that are locally convex but wound twice around o. Then the
 /// solid is star-shaped about o and locally convex everywhere, hence convex (Tietze–Nakajima).
 /// Faces rounded off their plane (a rotated body, a tessellated sphere) are checked as two
 /// triangles (quadrilaterals: one orientation decides planarity and the convex diagonal) plus
@@ -49,6 +53,13 @@ enum class ConvexityCertificate { Convex, NotConvex, Undecided };
 /// The certificate of is_convex() without the fallback: Convex and NotConvex are exact
 /// verdicts; Undecided leaves the body to the definition. Cost O(V + E).
 ConvexityCertificate certify_convexity(const Body& body);
+
+namespace internal {
+/// certify_convexity() counting the surface's degree about its centre along `ray` instead of
+/// the direction it picks (tests: a ray through an edge or a corner takes the floating-point
+/// winding sum instead).
+ConvexityCertificate certify_convexity_along(const Body& body, const std::optional<Vec3>& ray);
+}  // namespace internal
 
 /// Exact test with the list of non-convex faces: the verdict of is_convex(); when the body is
 /// not convex, the faces some vertex not on them lies strictly outside of, found through the
