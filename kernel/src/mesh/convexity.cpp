@@ -57,7 +57,8 @@ int dominant_axis(const Vec3& a, const Vec3& b, const Vec3& c) {
 }
 
 // The convexity certificate of is_convex() (see the header). Exact in every decision but the
-// winding number, an integer read from a floating-point sum whose error is bounded explicitly.
+// winding number when the counting ray meets an edge or a corner: then it is an integer read
+// from a floating-point sum whose error is bounded explicitly.
 class Certificate {
  public:
   explicit Certificate(const Body& body, std::optional<Vec3> ray = std::nullopt)
