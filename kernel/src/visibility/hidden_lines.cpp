@@ -48,17 +48,18 @@ bool segment_meets_box(const Vec2& a, const Vec2& b, const Eigen::AlignedBox2d& 
 
 HlrResult Roberts::run() {
   check_view();
+  size_t edge_total = 0;
+  for (const Body& body : bodies_) edge_total += static_cast<size_t>(body.edge_count());
+  threads_ = edge_total < kSequentialEdges ? 1 : 0;
   // Stage 0: facing, pieces, occlusion volumes; the grid over the picture plane.
   meter_.stage(0, 0.2, static_cast<double>(bodies_.size()));
   prepare_bodies();
   build_index();
   meter_.finish_stage();
-  size_t edge_total = 0;
-  for (const Body& body : bodies_) edge_total += static_cast<size_t>(body.edge_count());
   meter_.stage(0.2, options_.junctions ? 0.9 : 1.0, static_cast<double>(edge_total));
   // Stages 1 and 2: the edges, bodies in parallel, results in body order.
   std::vector<EdgeOutput> outputs(bodies_.size());
-  parallel_blocks(bodies_.size(), 0, 8, [&](size_t begin, size_t end) {
+  parallel_blocks(bodies_.size(), threads_, 8, [&](size_t begin, size_t end) {
     Scratch scratch;
     for (size_t b = begin; b != end; ++b) {
       edges_of(static_cast<int>(b), scratch, outputs[b]);
@@ -95,7 +96,7 @@ HlrResult Roberts::run() {
   result_.smooth_listed = options_.smooth;
   // The pieces' volumes freed on the workers: the destructor would free them one by one on
   // the calling thread, a serial O(pieces) tail of every call.
-  parallel_blocks(pieces_.size(), 0, 64, [&](size_t begin, size_t end) {
+  parallel_blocks(pieces_.size(), threads_, 64, [&](size_t begin, size_t end) {
     for (size_t i = begin; i != end; ++i) {
       pieces_[i].volume = OcclusionVolume();
       std::vector<ExactPlane>().swap(pieces_[i].faces);
@@ -120,7 +121,7 @@ void Roberts::check_view() {
     std::string error;
   };
   std::vector<BodyView> per_body(bodies_.size());
-  parallel_blocks(bodies_.size(), 0, 16, [&](size_t begin, size_t end) {
+  parallel_blocks(bodies_.size(), threads_, 16, [&](size_t begin, size_t end) {
     for (size_t b = begin; b != end; ++b) {
       const Body& body = bodies_[b];
       BodyView& out = per_body[b];
@@ -194,7 +195,7 @@ void Roberts::prepare_bodies() {
     std::string error;
   };
   std::vector<BodyPieces> per_body(n);
-  parallel_blocks(n, 0, 8, [&](size_t begin, size_t end) {
+  parallel_blocks(n, threads_, 8, [&](size_t begin, size_t end) {
     for (size_t b = begin; b != end; ++b) {
       const Body& body = bodies_[b];
       HlrBody& bd = data_[b];
@@ -273,7 +274,7 @@ void Roberts::prepare_bodies() {
     for (HlrFacet& f : per_body[b].facets) facets_.push_back(std::move(f));
   }
   // Occlusion volumes and picture boxes of the pieces, in parallel.
-  parallel_blocks(pieces_.size(), 0, 16, [&](size_t begin, size_t end) {
+  parallel_blocks(pieces_.size(), threads_, 16, [&](size_t begin, size_t end) {
     std::vector<Facing> piece_facing;
     for (size_t i = begin; i != end; ++i) {
       HlrPiece& p = pieces_[i];

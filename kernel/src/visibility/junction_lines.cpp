@@ -166,7 +166,7 @@ void Roberts::junctions() {
   }
   std::vector<std::vector<HlrSegment>> out(pairs.size());
   std::vector<int> found(pairs.size(), 0);
-  parallel_blocks(pairs.size(), 0, 4, [&](size_t begin, size_t end) {
+  parallel_blocks(pairs.size(), threads_, 4, [&](size_t begin, size_t end) {
     Scratch scratch;
     std::vector<int> ids;
     detail::ExactPlaneCache cache;

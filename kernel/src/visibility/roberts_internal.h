@@ -331,6 +331,11 @@ class Roberts {
   Eigen::AlignedBox<double, 1> depth_range_;
   // HlrOptions::progress: decompositions, then edges, then junction pairs.
   mutable ProgressMeter meter_;
+  // parallel_blocks' threads: 1 (no tasks) for a scene of fewer than kSequentialEdges edges,
+  // where waking a second thread costs more than it saves (25 boxes: 0.119 ms on two threads,
+  // 0.094 ms on one); 0 (the current arena) otherwise.
+  static constexpr size_t kSequentialEdges = 512;
+  int threads_ = 0;
 };
 
 }  // namespace hedra::internal
