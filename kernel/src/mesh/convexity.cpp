@@ -85,13 +85,13 @@ class Certificate {
     // quadrilateral), then the pieces written in parallel, in face order.
     first_piece_.resize(static_cast<size_t>(n));
     split_.resize(static_cast<size_t>(n));
+    std::vector<char> search(static_cast<size_t>(n), 0);  // stage 5: needs the local search
     int count = 0;
     for (int f = 0; f < n; ++f) {
       const FaceKind k = kind[static_cast<size_t>(f)];
       first_piece_[static_cast<size_t>(f)] = count;
       split_[static_cast<size_t>(f)] = k == kPlanar ? 0 : k == kSplit02 ? 1 : 2;
       count += k == kPlanar ? 1 : 2;
-      if (k != kPlanar) rounded_.push_back(f);
     }
     pieces_.resize(static_cast<size_t>(count));
     parallel_chunks(static_cast<size_t>(n), kChunk, [&](size_t, size_t begin, size_t end) {
@@ -111,6 +111,7 @@ class Certificate {
           out[0] = {{q[0], q[1], q[3]}, fi, true};
           out[1] = {{q[1], q[2], q[3]}, fi, true};
         }
+        search[f] = !support_is_piece(fi);
       }
     });
 
@@ -146,15 +147,11 @@ class Certificate {
     // Stage 5: the surface is convex. A planar face's support plane is a piece plane, so no
     // vertex lies outside it. A rounded quadrilateral's support plane (a, b, c) is not: check
     // it by a local search (see rounded_face_convex).
-    // Most are settled in O(1), their support plane being one of their pieces' planes; the
-    // vertex-face incidence is built only for the others.
-    std::vector<char> settled(rounded_.size());
-    parallel_chunks(rounded_.size(), kChunk, [&](size_t, size_t begin, size_t end) {
-      for (size_t k = begin; k != end; ++k) settled[k] = support_is_piece(rounded_[k]);
-    });
+    // Most are settled in O(1) in stage 1, their support plane being one of their pieces'
+    // planes (support_is_piece); the vertex-face incidence is built only for the others.
     std::vector<int> searched;
-    for (size_t k = 0; k < rounded_.size(); ++k)
-      if (!settled[k]) searched.push_back(rounded_[k]);
+    for (int f = 0; f < n; ++f)
+      if (search[static_cast<size_t>(f)]) searched.push_back(f);
     if (searched.empty()) return Verdict::Convex;
     build_incidence();
     std::atomic<bool> reflex_found{false};
@@ -476,7 +473,6 @@ class Certificate {
   std::vector<Piece> pieces_;
   std::vector<int> first_piece_;
   std::vector<char> split_;
-  std::vector<int> rounded_;
   std::vector<int> start_, incident_;
 };
 
