@@ -17,23 +17,34 @@ const std::vector<std::pair<int, int>>& Roberts::touching_pairs() {
   return *pairs_;
 }
 
+// The pairs of bodies whose closed bounding boxes meet: each box against the boxes sharing a
+// cell of a grid over the ground plane (PictureGrid: cells about the boxes' mean size), later
+// indices only, once each. O(n) for boxes of similar size spread over the plane, plus the
+// cells a large box covers. A sweep along x alone was O(n^1.5) on a grid of boxes (each box
+// against its whole column), and CGAL's box_intersection_d slower still on boxes sharing one
+// z range (0.72 against 0.26 ms for 1 600 boxes).
 std::vector<std::pair<int, int>> Roberts::find_touching_pairs() const {
-  // The boxes copied once into one array (the sort and the sweep read them many times).
-  std::vector<Eigen::AlignedBox3d> boxes(bodies_.size());
-  for (size_t b = 0; b < bodies_.size(); ++b) boxes[b] = bodies_[b].bbox();
-  std::vector<int> order(bodies_.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int x, int y) {
-    return boxes[static_cast<size_t>(x)].min().x() < boxes[static_cast<size_t>(y)].min().x();
-  });
+  const size_t n = bodies_.size();
+  std::vector<Eigen::AlignedBox2d> ground(n);
+  Eigen::AlignedBox2d extent;
+  extent.setEmpty();
+  for (size_t b = 0; b < n; ++b) {
+    const Eigen::AlignedBox3d& box = bodies_[b].bbox();
+    ground[b] = Eigen::AlignedBox2d(box.min().head<2>(), box.max().head<2>());
+    extent.extend(ground[b]);
+  }
+  PictureGrid grid;
+  grid.build(ground, extent);
+  std::vector<size_t> seen(n, 0);
   std::vector<std::pair<int, int>> out;
-  for (size_t i = 0; i < order.size(); ++i) {
-    const auto& bi = boxes[static_cast<size_t>(order[i])];
-    for (size_t j = i + 1; j < order.size(); ++j) {
-      const auto& bj = boxes[static_cast<size_t>(order[j])];
-      if (bj.min().x() > bi.max().x()) break;
-      if (bi.intersects(bj)) out.emplace_back(std::min(order[i], order[j]), std::max(order[i], order[j]));
-    }
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::AlignedBox3d& box = bodies_[i].bbox();
+    grid.visit(ground[i], [&](int id) {
+      const size_t j = static_cast<size_t>(id);
+      if (j <= i || seen[j] == i + 1) return;
+      seen[j] = i + 1;
+      if (box.intersects(bodies_[j].bbox())) out.emplace_back(static_cast<int>(i), id);
+    });
   }
   std::sort(out.begin(), out.end());
   return out;
