@@ -400,6 +400,33 @@ TEST(Roberts, ManyMutuallyOverlappingBoxesAgreeWithTheBruteForce) {
   }
 }
 
+TEST(Roberts, TouchingPairsOfBoxesOfEverySizeAgreeWithTheBruteForce) {
+  // The junction lines' pairs come from a grid over the ground plane sized by the mean box: a
+  // slab under everything, long bars across many cells, boxes stacked in z over one cell, tiny
+  // boxes touching at a corner or a face, and boxes apart in z over the same ground. The brute
+  // force tests every pair.
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> at(0, 20), size(0.2, 1.5), z(0, 3);
+  std::vector<Body> bodies{box({-1, -1, -0.5}, {21, 21, 0})};
+  for (int i = 0; i < 60; ++i) {
+    const Vec3 lo(at(rng), at(rng), z(rng));
+    bodies.push_back(box(lo, lo + Vec3(size(rng), size(rng), size(rng))));
+  }
+  bodies.push_back(box({0, 5, 0}, {20, 5.5, 1}));   // bars across the grid
+  bodies.push_back(box({7, 0, 0.5}, {7.4, 20, 2}));
+  bodies.push_back(box({3, 3, 0}, {4, 4, 1}));      // a stack over one cell, touching faces
+  bodies.push_back(box({3, 3, 1}, {4, 4, 2}));
+  bodies.push_back(box({3, 3, 5}, {4, 4, 6}));      // above it, apart
+  bodies.push_back(box({4, 4, 2}, {4.3, 4.3, 2.3}));  // touching the stack at a corner
+  for (const Camera& camera : {Camera::parallel({-1, -1.3, -0.8}), Camera::perspective({30, -16, 14}, {10, 10, 0}, 50)}) {
+    const HlrResult fast = hidden_lines(bodies, camera, no_merge());
+    const HlrResult slow = hidden_lines(bodies, camera, brute_force());
+    EXPECT_EQ(fast.stats.junction_segments, slow.stats.junction_segments);
+    EXPECT_GT(of_kind(fast.visible, LineKind::Junction).size(), 10u);
+    expect_same(fast, slow, 1e-12, "boxes of every size");
+  }
+}
+
 // Every visible or hidden part of an edge of a non-convex body lies on one of its own edges.
 void expect_on_own_edges(const HlrResult& r, const std::vector<Body>& bodies) {
   for (const auto* list : {&r.visible, &r.hidden})

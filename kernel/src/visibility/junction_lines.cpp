@@ -25,6 +25,14 @@ const std::vector<std::pair<int, int>>& Roberts::touching_pairs() {
 // z range (0.72 against 0.26 ms for 1 600 boxes).
 std::vector<std::pair<int, int>> Roberts::find_touching_pairs() const {
   const size_t n = bodies_.size();
+  std::vector<std::pair<int, int>> out;
+  if (!options_.spatial_index || options_.stage2 == HlrOptions::Stage2::BruteForce) {
+    // The reference: every pair, O(n²).
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = i + 1; j < n; ++j)
+        if (bodies_[i].bbox().intersects(bodies_[j].bbox())) out.emplace_back(static_cast<int>(i), static_cast<int>(j));
+    return out;
+  }
   std::vector<Eigen::AlignedBox2d> ground(n);
   Eigen::AlignedBox2d extent;
   extent.setEmpty();
@@ -36,7 +44,6 @@ std::vector<std::pair<int, int>> Roberts::find_touching_pairs() const {
   PictureGrid grid;
   grid.build(ground, extent);
   std::vector<size_t> seen(n, 0);
-  std::vector<std::pair<int, int>> out;
   for (size_t i = 0; i < n; ++i) {
     const Eigen::AlignedBox3d& box = bodies_[i].bbox();
     grid.visit(ground[i], [&](int id) {
