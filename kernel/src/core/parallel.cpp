@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <thread>
@@ -34,6 +35,18 @@ void parallel_blocks(size_t n, int threads, size_t grain,
   }
   tbb::task_arena arena(bounded_threads(threads));
   arena.execute(run);
+}
+
+void run_alongside(const std::function<void()>& side, const std::function<void()>& main) {
+  tbb::task_group group;
+  group.run([&side] { side(); });
+  try {
+    main();
+  } catch (...) {
+    group.wait();
+    throw;
+  }
+  group.wait();
 }
 
 void with_threads(int threads, const std::function<void()>& f) {

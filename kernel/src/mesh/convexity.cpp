@@ -115,6 +115,34 @@ class Certificate {
       }
     });
 
+    // The faces stage 5 searches around. Their vertex-face incidence (a serial pass over the
+    // faces) is built alongside stages 2 to 4, which run in parallel.
+    std::vector<int> searched;
+    for (int f = 0; f < n; ++f)
+      if (search[static_cast<size_t>(f)]) searched.push_back(f);
+    std::optional<Verdict> verdict;
+    if (searched.empty())
+      verdict = surface_verdict();
+    else
+      run_alongside([this] { build_incidence(); }, [&] { verdict = surface_verdict(); });
+    if (verdict) return *verdict;
+
+    // Stage 5: the surface is convex. A planar face's support plane is a piece plane, so no
+    // vertex lies outside it. A rounded quadrilateral's support plane (a, b, c) is not: check
+    // it by a local search (see rounded_face_convex), unless stage 1 settled it in O(1), its
+    // support plane being one of its pieces' planes (support_is_piece).
+    std::atomic<bool> reflex_found{false};
+    parallel_chunks(searched.size(), kChunk, [&](size_t, size_t begin, size_t end) {
+      for (size_t k = begin; k != end && !reflex_found.load(std::memory_order_relaxed); ++k)
+        if (!rounded_face_convex(searched[k])) reflex_found = true;
+    });
+    return reflex_found ? Verdict::NotConvex : Verdict::Convex;
+  }
+
+ private:
+  // Stages 2 to 4: the verdict when they settle it, nullopt when the pieces form a convex
+  // surface.
+  std::optional<Verdict> surface_verdict() const {
     // Stage 2: local convexity at every edge between pieces. Quadrilateral diagonals are
     // convex by construction; the body's edges are tested here. The first failing edge decides.
     const auto& edges = body_.edges();
@@ -143,26 +171,9 @@ class Certificate {
     Vec3 sum = Vec3::Zero();
     for (const Vec3& x : v_) sum += x;
     if (!winds_once(sum / static_cast<double>(v_.size()))) return Verdict::Unknown;
-
-    // Stage 5: the surface is convex. A planar face's support plane is a piece plane, so no
-    // vertex lies outside it. A rounded quadrilateral's support plane (a, b, c) is not: check
-    // it by a local search (see rounded_face_convex).
-    // Most are settled in O(1) in stage 1, their support plane being one of their pieces'
-    // planes (support_is_piece); the vertex-face incidence is built only for the others.
-    std::vector<int> searched;
-    for (int f = 0; f < n; ++f)
-      if (search[static_cast<size_t>(f)]) searched.push_back(f);
-    if (searched.empty()) return Verdict::Convex;
-    build_incidence();
-    std::atomic<bool> reflex_found{false};
-    parallel_chunks(searched.size(), kChunk, [&](size_t, size_t begin, size_t end) {
-      for (size_t k = begin; k != end && !reflex_found.load(std::memory_order_relaxed); ++k)
-        if (!rounded_face_convex(searched[k])) reflex_found = true;
-    });
-    return reflex_found ? Verdict::NotConvex : Verdict::Convex;
+    return std::nullopt;
   }
 
- private:
   static constexpr size_t kChunk = 4096;
   enum FaceKind : char { kPlanar, kSplit02, kSplit13, kUnknown };
 

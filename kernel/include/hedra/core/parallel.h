@@ -41,6 +41,12 @@ void parallel_chunks(size_t n, size_t chunk, F&& f) {
   });
 }
 
+/// Runs `side` and `main` possibly at the same time (side as a task of the current scope, main
+/// on the calling thread, whose parallel loops the other workers join once side is done) and
+/// returns when both are done. For a serial step whose result is needed only later, overlapped
+/// with parallel work. An exception from either propagates (side's after main has finished).
+void run_alongside(const std::function<void()>& side, const std::function<void()>& main);
+
 /// Runs f so that every parallel loop inside it with threads ≤ 0 uses at most
 /// bounded_threads(threads) workers (threads ≤ 0: no limit). For a pipeline of several loops
 /// and nested library calls under one thread option (the renderer).
