@@ -20,7 +20,8 @@ const std::vector<std::pair<int, int>>& Roberts::touching_pairs() {
 // The pairs of bodies whose closed bounding boxes meet: each box against the boxes sharing a
 // cell of a grid over the ground plane (PictureGrid: cells about the boxes' mean size), later
 // indices only, once each. O(n) for boxes of similar size spread over the plane, plus the
-// cells a large box covers. A sweep along x alone was O(n^1.5) on a grid of boxes (each box
+// cells a large box covers; boxes stacked over one cell (a tower) meet all of each other, as
+// in any sweep. A sweep along x alone was O(n^1.5) on a grid of boxes (each box
 // against its whole column), and CGAL's box_intersection_d slower still on boxes sharing one
 // z range (0.72 against 0.26 ms for 1 600 boxes).
 std::vector<std::pair<int, int>> Roberts::find_touching_pairs() const {
