@@ -292,7 +292,7 @@ class Roberts {
     return surfaces_.empty() ? none : surfaces_[static_cast<size_t>(b)];
   }
 
-  // Pairs of bodies whose boxes meet (closed), by sweeping along x; computed once.
+  // Pairs of bodies whose boxes meet (closed), from a grid over the ground plane; computed once.
   const std::vector<std::pair<int, int>>& touching_pairs();
 
   std::vector<std::pair<int, int>> find_touching_pairs() const;
