@@ -408,9 +408,15 @@ TEST(Roberts, TouchingPairsOfBoxesOfEverySizeAgreeWithTheBruteForce) {
   std::mt19937 rng(23);
   std::uniform_real_distribution<double> at(0, 20), size(0.2, 1.5), z(0, 3);
   std::vector<Body> bodies{box({-1, -1, -0.5}, {21, 21, 0})};
+  // One draw per statement: the order in which a call's arguments are evaluated differs
+  // between compilers (GCC and clang gave different scenes).
+  auto draw = [&](std::uniform_real_distribution<double>& d) { return d(rng); };
   for (int i = 0; i < 60; ++i) {
-    const Vec3 lo(at(rng), at(rng), z(rng));
-    bodies.push_back(box(lo, lo + Vec3(size(rng), size(rng), size(rng))));
+    Vec3 lo, extent;
+    for (int k = 0; k < 2; ++k) lo[k] = draw(at);
+    lo[2] = draw(z);
+    for (int k = 0; k < 3; ++k) extent[k] = draw(size);
+    bodies.push_back(box(lo, lo + extent));
   }
   bodies.push_back(box({0, 5, 0}, {20, 5.5, 1}));   // bars across the grid
   bodies.push_back(box({7, 0, 0.5}, {7.4, 20, 2}));
@@ -422,7 +428,8 @@ TEST(Roberts, TouchingPairsOfBoxesOfEverySizeAgreeWithTheBruteForce) {
     const HlrResult fast = hidden_lines(bodies, camera, no_merge());
     const HlrResult slow = hidden_lines(bodies, camera, brute_force());
     EXPECT_EQ(fast.stats.junction_segments, slow.stats.junction_segments);
-    EXPECT_GT(of_kind(fast.visible, LineKind::Junction).size(), 10u);
+    EXPECT_GT(fast.stats.junction_segments, 40);  // many pairs meet (before visibility)
+    EXPECT_GE(of_kind(fast.visible, LineKind::Junction).size(), 5u);
     expect_same(fast, slow, 1e-12, "boxes of every size");
   }
 }
