@@ -317,10 +317,9 @@ TEST(IsConvex, CollinearVerticesAndFilledHolesAreCertified) {
   EXPECT_EQ(certify_convexity(filled), ConvexityCertificate::Convex);
 }
 
-TEST(IsConvex, LocallyConvexSurfaceWoundTwiceIsNotConvex) {
-  // A bipyramid over the heptagram {7/2}: the equator runs twice around the axis, every edge
-  // is convex and the centre lies inside every face plane, yet the surface wraps twice around
-  // it. Only the winding number tells it from a convex body.
+// A bipyramid over the heptagram {7/2}: the equator runs twice around the axis, every edge
+// is convex and the centre lies inside every face plane, yet the surface wraps twice around it.
+Body heptagram_bipyramid() {
   std::vector<Vec3> v = {{0, 0, 1}, {0, 0, -1}};
   for (int i = 0; i < 7; ++i) {
     const double a = 4 * std::numbers::pi * i / 7;
@@ -332,7 +331,12 @@ TEST(IsConvex, LocallyConvexSurfaceWoundTwiceIsNotConvex) {
     f.push_back(Face{p, q, 0});
     f.push_back(Face{q, p, 1});
   }
-  Body wound(v, f);
+  return Body(v, f);
+}
+
+TEST(IsConvex, LocallyConvexSurfaceWoundTwiceIsNotConvex) {
+  // Only the winding number tells the heptagram bipyramid from a convex body.
+  const Body wound = heptagram_bipyramid();
   expect_matches_oracle(wound, "heptagram bipyramid");
   EXPECT_FALSE(is_convex(wound));
   EXPECT_NE(certify_convexity(wound), ConvexityCertificate::Convex);
@@ -353,19 +357,9 @@ TEST(IsConvex, WindingCountedAlongARayThroughEdgesAndCornersFallsBackToTheSolidA
     EXPECT_EQ(internal::certify_convexity_along(cube, ray), ConvexityCertificate::Convex);
     EXPECT_EQ(internal::certify_convexity_along(ball, ray), ConvexityCertificate::Convex);
   }
-  // The heptagram bipyramid (below) winds twice: two crossings along a generic ray; along the
-  // axis the ray meets the apex, and along (1, 0, 0) an equator vertex.
-  std::vector<Vec3> v = {{0, 0, 1}, {0, 0, -1}};
-  for (int i = 0; i < 7; ++i) {
-    const double a = 4 * std::numbers::pi * i / 7;
-    v.emplace_back(std::cos(a), std::sin(a), 0);
-  }
-  std::vector<Face> f;
-  for (int i = 0; i < 7; ++i) {
-    f.push_back(Face{2 + i, 2 + (i + 1) % 7, 0});
-    f.push_back(Face{2 + (i + 1) % 7, 2 + i, 1});
-  }
-  const Body wound(v, f);
+  // The heptagram bipyramid winds twice: two crossings along a generic ray; along the axis
+  // the ray meets the apex, and along (1, 0, 0) an equator vertex.
+  const Body wound = heptagram_bipyramid();
   for (const Vec3& ray : {Vec3(0.3, 0.2, 0.5), Vec3(0, 0, 1), Vec3(1, 0, 0)}) {
     SCOPED_TRACE(::testing::Message() << "ray " << ray.transpose());
     EXPECT_EQ(internal::certify_convexity_along(wound, ray), ConvexityCertificate::Undecided);
