@@ -177,11 +177,9 @@ void Roberts::junctions() {
       near.resize(1);
     }
     const Body& body = bodies_[b];
-    for (int f = 0; f < body.face_count(); ++f) {
-      const Eigen::AlignedBox3d box = detail::face_box(body, f);
-      if (std::any_of(near.begin(), near.end(), [&](const Eigen::AlignedBox3d& n) { return box.intersects(n); }))
-        face_plane(static_cast<int>(b), f);
-    }
+    const std::vector<char> meets = detail::faces_meeting(body, near);
+    for (int f = 0; f < body.face_count(); ++f)
+      if (meets[static_cast<size_t>(f)]) face_plane(static_cast<int>(b), f);
   }
   std::vector<std::vector<HlrSegment>> out(pairs.size());
   std::vector<int> found(pairs.size(), 0);

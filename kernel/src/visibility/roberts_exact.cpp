@@ -11,9 +11,12 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <stdexcept>
 #include <cmath>
 #include <memory>
 #include <optional>
+#include <ranges>
 #include <unordered_map>
 
 #include "hedra/core/error.h"
@@ -415,6 +418,42 @@ Eigen::AlignedBox3d face_box(const Body& body, int face) {
   return box;
 }
 
+std::vector<char> faces_meeting(const Body& body, std::span<const Eigen::AlignedBox3d> boxes) {
+  if (boxes.empty() || boxes.size() > kMaxMeetingBoxes)
+    throw std::invalid_argument("faces_meeting: 1 to 10 boxes");
+  // Outcodes (Cohen–Sutherland), six bits per box: a face's box misses box k exactly when all
+  // its vertices lie beyond one side of k, i.e. when the AND of its vertices' codes has a bit
+  // of k's group. Each vertex of a face ends one of its edges (hole vertices lie inside the
+  // outer loop's box, so they change nothing), and the edges are one flat array: no face loop
+  // is read.
+  const std::vector<Vec3>& vs = body.vertices();
+  std::vector<std::uint64_t> code(vs.size());
+  for (size_t v = 0; v < vs.size(); ++v) {
+    std::uint64_t c = 0;
+    for (size_t k = 0; k < boxes.size(); ++k)
+      for (int a = 0; a < 3; ++a) {
+        const std::uint64_t below = vs[v][a] < boxes[k].min()[a], above = vs[v][a] > boxes[k].max()[a];
+        c |= (below | above << 1) << (6 * k + 2 * static_cast<size_t>(a));
+      }
+    code[v] = c;
+  }
+  std::vector<std::uint64_t> face(static_cast<size_t>(body.face_count()), ~std::uint64_t{0});
+  for (const Edge& e : body.edges()) {
+    const std::uint64_t c = code[static_cast<size_t>(e.v0)] & code[static_cast<size_t>(e.v1)];
+    face[static_cast<size_t>(e.left_face)] &= c;
+    face[static_cast<size_t>(e.right_face)] &= c;
+  }
+  std::vector<char> out(face.size(), 0);
+  for (size_t f = 0; f < face.size(); ++f)
+    for (size_t k = 0; k < boxes.size() && !out[f]; ++k) out[f] = ((face[f] >> (6 * k)) & 63) == 0;
+  HEDRA_EXPENSIVE_ASSERT(std::ranges::all_of(std::views::iota(0, body.face_count()), [&](int f) {
+    const Eigen::AlignedBox3d box = face_box(body, f);
+    const bool meets = std::ranges::any_of(boxes, [&](const Eigen::AlignedBox3d& b) { return box.intersects(b); });
+    return meets == static_cast<bool>(out[static_cast<size_t>(f)]);
+  }), "faces_meeting: an outcode disagrees with the face's box");
+  return out;
+}
+
 std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
     std::span<const ExactPlane> planes, const Viewpoint& view, const Vec3& p1, const Vec3& p2) {
   const std::vector<HPlane> h = hplanes(planes);
@@ -443,19 +482,20 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
   // each face of A near B is tested against those alone.
   std::vector<int> near_b;
   std::vector<Eigen::AlignedBox3d> boxes_b;
+  const std::vector<char> b_near_a = faces_meeting(b, std::span(&a.bbox(), 1));
   for (int fb = 0; fb < b.face_count(); ++fb) {
-    const Eigen::AlignedBox3d box = face_box(b, fb);
-    if (!box.intersects(a.bbox())) continue;
+    if (!b_near_a[static_cast<size_t>(fb)]) continue;
     near_b.push_back(fb);
-    boxes_b.push_back(box);
+    boxes_b.push_back(face_box(b, fb));
   }
   if (near_b.empty()) return out;
   // B's exact planes built on first use, then reused.
   std::vector<std::optional<HPlane>> hplanes_b(near_b.size());
   Candidates candidates;
+  const std::vector<char> a_near_b = faces_meeting(a, std::span(&b.bbox(), 1));
   for (int fa = 0; fa < a.face_count(); ++fa) {
+    if (!a_near_b[static_cast<size_t>(fa)]) continue;
     const Eigen::AlignedBox3d box_a = face_box(a, fa);
-    if (!box_a.intersects(b.bbox())) continue;
     std::optional<HPlane> ha_built;
     for (size_t kb = 0; kb < near_b.size(); ++kb) {
       const int fb = near_b[kb];

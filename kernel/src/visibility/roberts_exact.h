@@ -90,6 +90,12 @@ using CandidateQuery =
 using FacePlane = std::function<const ExactPlane&(int face)>;
 /// The bounding box of a face's outer loop (exact: the vertices' coordinates). Cost O(face).
 Eigen::AlignedBox3d face_box(const Body& body, int face);
+inline constexpr size_t kMaxMeetingBoxes = 10;
+/// For each face of `body`, whether its face_box meets (closed boxes, as
+/// Eigen::AlignedBox3d::intersects) at least one of `boxes` (1 to kMaxMeetingBoxes): the same
+/// answers as face_box, from one outcode per vertex and the flat edge list, without reading
+/// the faces' loops. Cost O(V·k + E) for k boxes.
+std::vector<char> faces_meeting(const Body& body, std::span<const Eigen::AlignedBox3d> boxes);
 std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          const FacePlane& planes_a, const FacePlane& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
