@@ -92,18 +92,22 @@ bool SmoothSurface::curved_face(const Vec3& outward) const {
   return false;
 }
 
-Vec3 SmoothSurface::local_normal(const Vec3& q, const Vec3& c) const {
+Vec3 SmoothSurface::local_normal(const Vec3& q, const Vec3& face_centre) const {
+  const auto local_centre = [&] { return Vec3(inverse_ * (face_centre - offset_)); };
   switch (kind_) {
     case Kind::Sphere: {
       const Vec3 d = q - centre_;
-      return d.norm() > 0 ? Vec3(d.normalized()) : Vec3((c - centre_).normalized());
+      return d.norm() > 0 ? Vec3(d.normalized()) : Vec3((local_centre() - centre_).normalized());
     }
     case Kind::Cylinder:
     case Kind::Cone: {
       // The normal depends only on the angle about the axis; on the axis (a cone's apex) the
       // face's own angle stands in for it.
       Eigen::Vector2d radial(q.x(), q.y());
-      if (radial.norm() <= 1e-12 * radius_) radial = Eigen::Vector2d(c.x(), c.y());
+      if (radial.norm() <= 1e-12 * radius_) {
+        const Vec3 c = local_centre();
+        radial = Eigen::Vector2d(c.x(), c.y());
+      }
       radial.normalize();
       const double slope = kind_ == Kind::Cylinder ? 0.0 : radius_ / (z1_ - z0_);
       return Vec3(radial.x(), radial.y(), slope).normalized();
@@ -114,8 +118,7 @@ Vec3 SmoothSurface::local_normal(const Vec3& q, const Vec3& c) const {
   return Vec3::Zero();
 }
 
-bool SmoothSurface::normal_needs_face(const Vec3& p) const {
-  const Vec3 q = inverse_ * (p - offset_);
+bool SmoothSurface::local_needs_face(const Vec3& q) const {
   switch (kind_) {
     case Kind::Sphere: return !((q - centre_).norm() > 0);
     case Kind::Cylinder:
@@ -125,11 +128,18 @@ bool SmoothSurface::normal_needs_face(const Vec3& p) const {
   return false;
 }
 
+bool SmoothSurface::normal_needs_face(const Vec3& p) const { return local_needs_face(inverse_ * (p - offset_)); }
+
 Vec3 SmoothSurface::normal(const Vec3& p, const Vec3& face_centre) const {
   const Vec3 q = inverse_ * (p - offset_);
-  const Vec3 c = inverse_ * (face_centre - offset_);
   // Gradients map with the inverse transpose of the placement's linear part.
-  return (inverse_.transpose() * local_normal(q, c)).normalized();
+  return (inverse_.transpose() * local_normal(q, face_centre)).normalized();
+}
+
+std::optional<Vec3> SmoothSurface::vertex_normal(const Vec3& p) const {
+  const Vec3 q = inverse_ * (p - offset_);
+  if (local_needs_face(q)) return std::nullopt;
+  return Vec3((inverse_.transpose() * local_normal(q, Vec3::Zero())).normalized());
 }
 
 }  // namespace hedra

@@ -200,7 +200,10 @@ void Roberts::prepare_bodies() {
       const Body& body = bodies_[b];
       HlrBody& bd = data_[b];
       bd.facing.resize(static_cast<size_t>(body.face_count()));
-      for (int f = 0; f < body.face_count(); ++f) bd.facing[static_cast<size_t>(f)] = facing(body, f, view_);
+      // Exact, about 7 ns a face: a large body's faces in parallel chunks.
+      parallel_chunks(bd.facing.size(), kFacingChunk, [&](size_t, size_t lo, size_t hi) {
+        for (size_t f = lo; f != hi; ++f) bd.facing[f] = facing(body, static_cast<int>(f), view_);
+      });
       // Line classes: O(E) in double (a drawing construction, not a decision). A two-sided
       // face of an open surface has only its own boundary: every edge is drawn.
       if (options_.crease_angle > 0 && !body.two_sided()) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "hedra/core/parallel.h"
@@ -19,6 +20,9 @@ Vec3 face_centre(const Body& body, int f) {
   return c / static_cast<double>(loop.size());
 }
 
+// classify_edges runs over chunks of this many edges (one chunk, no task, below it).
+constexpr size_t kClassChunk = 16384;
+
 bool curved(const SmoothSurface& surface, const Vec3& outward) {
   return surface.is_smooth() && surface.curved_face(outward);
 }
@@ -28,13 +32,17 @@ bool curved(const SmoothSurface& surface, const Vec3& outward) {
 std::vector<EdgeClass> classify_edges(const Body& body, double crease_angle_deg,
                                       const SmoothSurface& surface) {
   const double cos_crease = std::cos(crease_angle_deg * std::numbers::pi / 180);
-  std::vector<EdgeClass> out;
-  out.reserve(body.edges().size());
-  for (const Edge& e : body.edges()) {
-    const Vec3 a = outward_normal(body, e.left_face), b = outward_normal(body, e.right_face);
-    const bool smooth = (curved(surface, a) && curved(surface, b)) || a.dot(b) >= cos_crease;
-    out.push_back(smooth ? EdgeClass::Smooth : EdgeClass::Sharp);
-  }
+  const std::vector<Edge>& edges = body.edges();
+  std::vector<EdgeClass> out(edges.size());
+  // Each edge's class in its own place: a large body's in parallel chunks.
+  parallel_chunks(edges.size(), kClassChunk, [&](size_t, size_t begin, size_t end) {
+    for (size_t i = begin; i != end; ++i) {
+      const Edge& e = edges[i];
+      const Vec3 a = outward_normal(body, e.left_face), b = outward_normal(body, e.right_face);
+      const bool smooth = (curved(surface, a) && curved(surface, b)) || a.dot(b) >= cos_crease;
+      out[i] = smooth ? EdgeClass::Smooth : EdgeClass::Sharp;
+    }
+  });
   return out;
 }
 
@@ -184,8 +192,9 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
     parallel_chunks(v.size(), kChunk, [&](size_t, size_t begin, size_t end) {
       for (size_t x = begin; x != end; ++x) {
         if (regular[x] == 0) continue;
-        regular[x] = surface.normal_needs_face(v[x]) ? 2 : 1;
-        if (regular[x] == 1) vertex_normal[x] = surface.normal(v[x], Vec3::Zero());
+        const std::optional<Vec3> n = surface.vertex_normal(v[x]);
+        regular[x] = n ? 1 : 2;
+        if (n) vertex_normal[x] = *n;
       }
     });
   }

@@ -335,6 +335,8 @@ class Roberts {
   // where waking a second thread costs more than it saves (25 boxes: 0.119 ms on two threads,
   // 0.094 ms on one); 0 (the current arena) otherwise.
   static constexpr size_t kSequentialEdges = 512;
+  // A body's faces decided in chunks of this many (one chunk, no task, below it).
+  static constexpr size_t kFacingChunk = 8192;
   int threads_ = 0;
 };
 

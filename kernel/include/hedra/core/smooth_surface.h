@@ -4,6 +4,7 @@
 // surface") while real edges — a cylinder's rim, a box's edges — stay sharp.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "hedra/core/plane.h"
@@ -54,9 +55,17 @@ class SmoothSurface {
   /// Cost O(1).
   bool normal_needs_face(const Vec3& p) const;
 
+  /// normal(p, c), the same bits, where it does not depend on c; std::nullopt where
+  /// normal_needs_face(p). One transform of p instead of the three of both calls (the normal
+  /// of every vertex of a tessellated body, for outlines). Cost O(1).
+  std::optional<Vec3> vertex_normal(const Vec3& p) const;
+
  private:
-  // Local (primitive) normal at local point q.
-  Vec3 local_normal(const Vec3& q, const Vec3& local_face_centre) const;
+  // Local (primitive) normal at local point q; `face_centre` (world) is taken to the local
+  // frame only where the gradient vanishes.
+  Vec3 local_normal(const Vec3& q, const Vec3& face_centre) const;
+  // Whether local_normal(q, c) depends on c.
+  bool local_needs_face(const Vec3& q) const;
 
   Kind kind_ = Kind::None;
   Vec3 centre_ = Vec3::Zero();  // sphere
