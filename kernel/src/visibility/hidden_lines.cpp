@@ -99,6 +99,7 @@ HlrResult Roberts::run() {
   parallel_blocks(pieces_.size(), threads_, 64, [&](size_t begin, size_t end) {
     for (size_t i = begin; i != end; ++i) {
       pieces_[i].volume = OcclusionVolume();
+      pieces_[i].deferred.reset();
       std::vector<ExactPlane>().swap(pieces_[i].faces);
     }
   });
@@ -295,7 +296,8 @@ void Roberts::prepare_bodies() {
       if (p.piece) {
         const Body& piece = *p.piece;
         if (bd.convex && p.face < 0) {
-          p.volume = occlusion_volume(piece, bd.facing, view_);
+          if (!brute && piece.face_count() >= kDeferredVolumeFaces) p.deferred = std::make_unique<std::once_flag>();
+          else build_volume(p);
         } else {
           piece_facing.clear();
           for (int f = 0; f < piece.face_count(); ++f) piece_facing.push_back(facing(piece, f, view_));
@@ -307,11 +309,21 @@ void Roberts::prepare_bodies() {
       p.box = picture_box(p.vertices());
       p.near = near_depth(p.vertices());
       p.occluder.body = p.body;
-      p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
+      if (!p.deferred) p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
       p.occluder.faces = &p.faces;
     }
   });
   result_.stats.pieces = static_cast<int>(pieces_.size());
+}
+
+void Roberts::build_volume(const HlrPiece& p) const {
+  p.volume = occlusion_volume(*p.piece, data_[static_cast<size_t>(p.body)].facing, view_);
+  p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
+}
+
+const OcclusionVolume& Roberts::volume(const HlrPiece& p) const {
+  if (p.deferred) std::call_once(*p.deferred, [&] { build_volume(p); });
+  return p.volume;
 }
 
 void Roberts::flat_joins() {
@@ -430,7 +442,7 @@ bool Roberts::face_incident(const HlrPiece& p, int f, const Vec3& s1, const Vec3
 bool Roberts::rounded_incident(const HlrPiece& p, int f1, int f2, const Vec3& s1, const Vec3& s2) const {
   const Body& body = bodies_[static_cast<size_t>(p.body)];
   const double tol = 8 * kRoundingPlanarity * body.scale();
-  for (int g : p.volume.front_faces) {
+  for (int g : volume(p).front_faces) {
     const Vec3 n = p.piece->plane(g).normal();
     for (int f : {f1, f2}) {
       const Plane& plane = body.plane(f);
@@ -445,7 +457,7 @@ bool Roberts::rounded_incident(const HlrPiece& p, int f1, int f2, const Vec3& s1
   const double len = d.norm();
   if (len == 0) return false;
   const auto v = p.vertices();
-  for (const auto& [a, b] : p.volume.silhouette)
+  for (const auto& [a, b] : volume(p).silhouette)
     if ((v[static_cast<size_t>(a)] - s1).cross(d).norm() <= tol * len &&
         (v[static_cast<size_t>(b)] - s1).cross(d).norm() <= tol * len)
       return true;
@@ -587,9 +599,11 @@ void Roberts::visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch
   parts.clear();
   for (int id : ids) {
     const HlrPiece& o = pieces_[static_cast<size_t>(id)];
-    if (!o.volume.clipper || !keep(o)) continue;
+    if (!keep(o)) continue;
+    const OcclusionVolume& v = volume(o);
+    if (!v.clipper) continue;
     ++out.stats.occlusion_tests;
-    const std::optional<SegmentPart> part = clip_segment_open(*o.volume.clipper, p1, p2);
+    const std::optional<SegmentPart> part = clip_segment_open(*v.clipper, p1, p2);
     if (!part) continue;
     parts.push_back(*part);
     if (!part->lo.plane && !part->hi.plane) break;  // hidden whole

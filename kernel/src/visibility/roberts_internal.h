@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <memory>
+#include <mutex>
 #include <numeric>
 #include <optional>
 #include <span>
@@ -110,7 +112,12 @@ struct HlrPiece {
     if (piece) return piece->vertices();
     return triangle;
   }
-  OcclusionVolume volume;
+  // The occlusion volume; read it through Roberts::volume(), which builds a deferred one.
+  // A convex body of many faces (a tessellated sphere: 38 000 front planes, 6 MB) has its
+  // volume built only when a segment first needs it (`deferred` set, built once under it):
+  // in a scene where little lies behind the body, never.
+  mutable OcclusionVolume volume;
+  mutable std::unique_ptr<std::once_flag> deferred;
   std::vector<ExactPlane> faces;  // for the brute-force path
   // Pieces of a non-convex body: the canonical planes (Decomposition::piece_planes) of the
   // exact piece's faces turned to the viewpoint, decided exactly on their support triples;
@@ -119,7 +126,7 @@ struct HlrPiece {
   bool exact = false;
   // A triangle of a face of a body that occludes by its faces (Occluders::Faces): that face.
   int face = -1;
-  detail::PieceOccluder occluder;
+  mutable detail::PieceOccluder occluder;  // occluder.volume set with `volume`
   Eigen::AlignedBox2d box;
   double near = 0;  // least depth, minus the margin
 };
@@ -237,6 +244,11 @@ class Roberts {
     HlrStats stats;
   };
 
+  // A piece's occlusion volume, built on first use when deferred (thread-safe).
+  const OcclusionVolume& volume(const HlrPiece& p) const;
+  // Builds p's volume (a convex body's own piece: from the body's facings).
+  void build_volume(const HlrPiece& p) const;
+
   // Candidate occluders (piece ids, then facet ids offset by the piece count) for a segment.
   void candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::vector<int>& out) const;
 
@@ -247,7 +259,9 @@ class Roberts {
     for (int id : ids) {
       if (id < static_cast<int>(pieces_.size())) {
         const HlrPiece& p = pieces_[static_cast<size_t>(id)];
-        if (keep(p)) out.pieces.push_back(&p.occluder);
+        if (!keep(p)) continue;
+        volume(p);  // a deferred volume built: occluder.volume points to it
+        out.pieces.push_back(&p.occluder);
       } else {
         out.facets.push_back(&facets_[static_cast<size_t>(id) - pieces_.size()].occluder);
       }
@@ -337,6 +351,8 @@ class Roberts {
   static constexpr size_t kSequentialEdges = 512;
   // A body's faces decided in chunks of this many (one chunk, no task, below it).
   static constexpr size_t kFacingChunk = 8192;
+  // A convex body of at least this many faces gets a deferred occlusion volume (HlrPiece).
+  static constexpr int kDeferredVolumeFaces = 4096;
   int threads_ = 0;
 };
 
