@@ -434,6 +434,42 @@ TEST(Roberts, TouchingPairsOfBoxesOfEverySizeAgreeWithTheBruteForce) {
   }
 }
 
+TEST(Roberts, ALargeConvexBodyHidesAsTheRayCastReferenceWhetherOrNotItsVolumeIsNeeded) {
+  // A convex body of 4096 faces or more builds its occlusion volume only when a segment first
+  // needs it (Roberts::volume): here a tessellated sphere hides part of a tall box behind it
+  // and of the slab's far edges, and stands in front of the box's junction lines with the slab;
+  // seen from above, nothing lies behind it. The visible length of the boxes' edges (the
+  // sphere's are all smooth) against the ray-cast reference (the sphere as its planes).
+  const Body ball = sphere({0, 0, 1.5}, 1.5, 1e-3);
+  ASSERT_GE(ball.face_count(), 4096);
+  const std::vector<Body> bodies{box({-4, -4, -0.5}, {4, 4, 0}), ball, box({-3.5, -3, 0}, {-2.8, 2, 3.5}),
+                                 box({1.8, 1.6, 0}, {2.6, 2.4, 1})};
+  HlrOptions options;
+  options.hidden = true;
+  for (const Camera& camera : {Camera::parallel({-1, -0.8, -0.4}), Camera::perspective({8, 7, 5}, {0, 0, 1}, 50),
+                               Camera::parallel({0.1, 0.2, -1}, {0, 1, 0})}) {
+    const HlrResult r = hidden_lines(bodies, camera, options);
+    const testing::RayCastReference reference(bodies, camera);
+    double expected = 0;
+    for (size_t i = 0; i < bodies.size(); ++i)
+      for (int k = 0; k < bodies[i].edge_count(); ++k) {
+        if (i == 1) continue;  // the sphere's edges: smooth, not drawn
+        const Edge& e = bodies[i].edges()[static_cast<size_t>(k)];
+        expected += reference.visible_length(bodies[i].vertices()[e.v0], bodies[i].vertices()[e.v1], 400,
+                                             testing::part_hints(r, bodies[i], static_cast<int>(i), k));
+      }
+    EXPECT_NEAR(r.length(LineKind::Edge), expected, 1e-9 * expected);
+    if (camera.projection == Camera::Projection::Parallel && camera.direction.z() > -0.5) {
+      // The tall box behind the sphere is partly hidden by it, beyond its own back edges.
+      double behind = 0;
+      for (const HlrSegment& h : r.hidden)
+        if (h.body == 2) behind += (h.b - h.a).norm();
+      EXPECT_GT(behind, 1.0);
+      EXPECT_GT(r.stats.occlusion_tests, 0);
+    }
+  }
+}
+
 // Every visible or hidden part of an edge of a non-convex body lies on one of its own edges.
 void expect_on_own_edges(const HlrResult& r, const std::vector<Body>& bodies) {
   for (const auto* list : {&r.visible, &r.hidden})
