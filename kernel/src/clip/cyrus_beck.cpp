@@ -192,9 +192,24 @@ std::optional<ClipPart> clip_segment(const ConvexClipper& clipper, const Vec3& p
 
 std::optional<SegmentPart> clip_segment_open(const ConvexClipper& clipper, const Vec3& p1,
                                              const Vec3& p2) {
+  return clip_segment_open(std::span<const ExactPlane>(clipper.planes()), p1, p2);
+}
+
+std::optional<SegmentPart> intersect_parts(const SegmentPart& a, const SegmentPart& b, const Vec3& p1,
+                                           const Vec3& p2) {
+  SegmentPart out;
+  out.lo = compare_ends(a.lo, b.lo, p1, p2) == Sign::Negative ? b.lo : a.lo;
+  out.hi = compare_ends(a.hi, b.hi, p1, p2) == Sign::Negative ? a.hi : b.hi;
+  if (compare_ends(out.lo, out.hi, p1, p2) != Sign::Negative) return std::nullopt;
+  if (out.lo.plane && out.hi.plane && out.hi.t < out.lo.t) out.hi.t = out.lo.t;  // as clip_segment_open
+  return out;
+}
+
+std::optional<SegmentPart> clip_segment_open(std::span<const ExactPlane> planes, const Vec3& p1,
+                                             const Vec3& p2) {
   const double m1 = p1.cwiseAbs().maxCoeff(), m2 = p2.cwiseAbs().maxCoeff();
   SegmentEnd lo{0, 0, nullptr}, hi{1, 0, nullptr};
-  for (const ExactPlane& f : clipper.planes()) {
+  for (const ExactPlane& f : planes) {
     const double w = f.value(p1), e = f.value(p2);
     const double bw = f.error_bound(m1), be = f.error_bound(m2);
     const Sign s1 = side_of_plane(f, p1, w, bw), s2 = side_of_plane(f, p2, e, be);

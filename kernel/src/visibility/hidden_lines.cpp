@@ -99,7 +99,7 @@ HlrResult Roberts::run() {
   parallel_blocks(pieces_.size(), threads_, 64, [&](size_t begin, size_t end) {
     for (size_t i = begin; i != end; ++i) {
       pieces_[i].volume = OcclusionVolume();
-      pieces_[i].deferred.reset();
+      pieces_[i].large.reset();
       std::vector<ExactPlane>().swap(pieces_[i].faces);
     }
   });
@@ -296,7 +296,7 @@ void Roberts::prepare_bodies() {
       if (p.piece) {
         const Body& piece = *p.piece;
         if (bd.convex && p.face < 0) {
-          if (!brute && piece.face_count() >= kDeferredVolumeFaces) p.deferred = std::make_unique<std::once_flag>();
+          if (!brute && piece.face_count() >= kLargePieceFaces) p.large = std::make_unique<LargeConvex>();
           else build_volume(p);
         } else {
           piece_facing.clear();
@@ -309,7 +309,7 @@ void Roberts::prepare_bodies() {
       p.box = picture_box(p.vertices());
       p.near = near_depth(p.vertices());
       p.occluder.body = p.body;
-      if (!p.deferred) p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
+      if (!p.large) p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
       p.occluder.faces = &p.faces;
     }
   });
@@ -322,8 +322,71 @@ void Roberts::build_volume(const HlrPiece& p) const {
 }
 
 const OcclusionVolume& Roberts::volume(const HlrPiece& p) const {
-  if (p.deferred) std::call_once(*p.deferred, [&] { build_volume(p); });
+  if (p.large) std::call_once(p.large->volume_once, [&] { build_volume(p); });
   return p.volume;
+}
+
+const LargeConvex& Roberts::silhouette_of(const HlrPiece& p) const {
+  LargeConvex& l = *p.large;
+  std::call_once(l.silhouette_once, [&] {
+    const Body& body = *p.piece;
+    l.silhouette = silhouette_volume(body, data_[static_cast<size_t>(p.body)].facing, view_);
+    // Each vertex projected once; each front face's picture box from its outer loop (the
+    // holes lie inside it), inflated by the culling margin like the pieces' boxes.
+    std::vector<Vec2> picture(body.vertices().size());
+    for (size_t i = 0; i < picture.size(); ++i) picture[i] = projection_.project(body.vertices()[i]);
+    Eigen::AlignedBox2d extent;
+    extent.setEmpty();
+    l.boxes.reserve(l.silhouette.front_faces.size());
+    for (const int f : l.silhouette.front_faces) {
+      Eigen::AlignedBox2d box;
+      box.setEmpty();
+      for (const int v : body.faces()[static_cast<size_t>(f)].loops[0]) box.extend(picture[static_cast<size_t>(v)]);
+      box.min().array() -= margin_;
+      box.max().array() += margin_;
+      l.boxes.push_back(box);
+      extent.extend(box);
+    }
+    l.grid.build(l.boxes, extent);
+  });
+  return l;
+}
+
+std::optional<SegmentPart> Roberts::hidden_part(const HlrPiece& p, const Vec3& p1, const Vec3& p2,
+                                                Scratch& scratch) const {
+  if (p.large) {
+    const LargeConvex& l = silhouette_of(p);
+    if (l.silhouette.front_faces.empty()) return std::nullopt;  // hides nothing
+    if (l.silhouette.clipper) {
+      const std::optional<SegmentPart> outer = clip_segment_open(*l.silhouette.clipper, p1, p2);
+      if (!outer) return std::nullopt;
+      // The front faces whose picture boxes the segment's picture meets: among them the face
+      // each view ray through a point of the segment meets.
+      const Vec2 a2 = projection_.project(p1), b2 = projection_.project(p2);
+      std::vector<int>& ids = scratch.faces;
+      ids.clear();
+      l.grid.visit(Eigen::AlignedBox2d(a2.cwiseMin(b2), a2.cwiseMax(b2)), [&](int k) {
+        if (segment_meets_box(a2, b2, l.boxes[static_cast<size_t>(k)])) ids.push_back(k);
+      });
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      if (!ids.empty()) {
+        std::vector<ExactPlane>& planes = scratch.front_planes.emplace_back();
+        planes.reserve(ids.size());
+        for (const int k : ids)
+          planes.push_back(exact_face_plane(*p.piece, l.silhouette.front_faces[static_cast<size_t>(k)]));
+        const std::optional<SegmentPart> inner = clip_segment_open(std::span<const ExactPlane>(planes), p1, p2);
+        if (!inner) return std::nullopt;
+        return intersect_parts(*outer, *inner, p1, p2);
+      }
+      // No face box met although the segment enters the silhouette: only rounding of the
+      // boxes could do that; the whole volume decides.
+    }
+    // No silhouette plane (every silhouette edge's line through the viewpoint): the whole volume.
+  }
+  const OcclusionVolume& v = volume(p);
+  if (!v.clipper) return std::nullopt;
+  return clip_segment_open(*v.clipper, p1, p2);
 }
 
 void Roberts::flat_joins() {
@@ -597,13 +660,13 @@ void Roberts::visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch
   std::erase_if(ids, [&](int id) { return id >= static_cast<int>(pieces_.size()); });
   near_first(ids, scratch);
   parts.clear();
+  scratch.front_planes.clear();  // the previous segment's (its parts are done)
   for (int id : ids) {
     const HlrPiece& o = pieces_[static_cast<size_t>(id)];
     if (!keep(o)) continue;
-    const OcclusionVolume& v = volume(o);
-    if (!v.clipper) continue;
+    if (!o.large && !o.volume.clipper) continue;
     ++out.stats.occlusion_tests;
-    const std::optional<SegmentPart> part = clip_segment_open(*v.clipper, p1, p2);
+    const std::optional<SegmentPart> part = hidden_part(o, p1, p2, scratch);
     if (!part) continue;
     parts.push_back(*part);
     if (!part->lo.plane && !part->hi.plane) break;  // hidden whole

@@ -109,8 +109,11 @@ OcclusionVolume occlusion_volume(const Body& body, const Viewpoint& view) {
   return occlusion_volume(body, f, view);
 }
 
-OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facing,
-                                 const Viewpoint& view, std::span<const ExactPlane> face_planes) {
+namespace {
+
+// occlusion_volume, or with `front_planes` false silhouette_volume.
+OcclusionVolume volume_of(const Body& body, std::span<const Facing> facing, const Viewpoint& view,
+                          std::span<const ExactPlane> face_planes, bool front_planes) {
   OcclusionVolume out;
   const auto& v = body.vertices();
   // Sized exactly: reserving a plane per face and edge (160 bytes each) was 36 MB for a
@@ -122,15 +125,15 @@ OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facin
   if (fronts == 0) return out;
   for (const Edge& e : body.edges()) silhouette += is_front(e.left_face) != is_front(e.right_face);
   std::vector<ExactPlane> planes;
-  planes.reserve(fronts + silhouette);
+  planes.reserve((front_planes ? fronts : 0) + silhouette);
   out.front_faces.reserve(fronts);
   out.silhouette.reserve(silhouette);
   // Front faces: their planes, inner side Positive already.
   for (int f = 0; f < body.face_count(); ++f) {
     if (!is_front(f)) continue;
     out.front_faces.push_back(f);
-    planes.push_back(face_planes.empty() ? exact_face_plane(body, f)
-                                         : face_planes[static_cast<size_t>(f)]);
+    if (front_planes)
+      planes.push_back(face_planes.empty() ? exact_face_plane(body, f) : face_planes[static_cast<size_t>(f)]);
   }
   // Silhouette edges: between a front face and one that is not.
   for (const Edge& e : body.edges()) {
@@ -168,8 +171,19 @@ OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facin
     if (side == Sign::Zero) throw InvalidInput("occlusion volume: the body is flat");
     planes.push_back(side == Sign::Positive ? *plane : plane->flipped());
   }
-  out.clipper = ConvexClipper::from_planes(std::move(planes));
+  if (!planes.empty()) out.clipper = ConvexClipper::from_planes(std::move(planes));
   return out;
+}
+
+}  // namespace
+
+OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facing,
+                                 const Viewpoint& view, std::span<const ExactPlane> face_planes) {
+  return volume_of(body, facing, view, face_planes, true);
+}
+
+OcclusionVolume silhouette_volume(const Body& body, std::span<const Facing> facing, const Viewpoint& view) {
+  return volume_of(body, facing, view, {}, false);
 }
 
 OcclusionVolume triangle_occlusion_volume(const std::array<Vec3, 3>& t, const ExactPlane& plane,

@@ -100,6 +100,20 @@ class PictureGrid {
   std::vector<int> start_, ids_;
 };
 
+// A convex body of many faces as an occluder (HlrPiece::large), built when a segment first
+// needs it: the planes through its silhouette edges and its front faces in a grid over the
+// picture. A point inside the silhouette planes is hidden exactly when it lies behind the
+// front face its view ray meets (silhouette_volume), so a segment is clipped by the
+// silhouette planes and the planes of the front faces its picture meets: O(silhouette + faces
+// met) instead of O(front faces), and no front plane is built for a segment that misses the
+// body. The full volume is built only for the exact paths (junction lines).
+struct LargeConvex {
+  std::once_flag volume_once, silhouette_once;
+  OcclusionVolume silhouette;              // silhouette_volume()
+  std::vector<Eigen::AlignedBox2d> boxes;  // picture boxes of silhouette.front_faces (inflated)
+  PictureGrid grid;                        // over `boxes`
+};
+
 struct HlrPiece {
   HlrPiece(int b, Body p) : body(b), piece(std::move(p)) {}
   HlrPiece(int b, const std::array<Vec3, 3>& t) : body(b), triangle(t) {}
@@ -113,11 +127,11 @@ struct HlrPiece {
     return triangle;
   }
   // The occlusion volume; read it through Roberts::volume(), which builds a deferred one.
-  // A convex body of many faces (a tessellated sphere: 38 000 front planes, 6 MB) has its
-  // volume built only when a segment first needs it (`deferred` set, built once under it):
-  // in a scene where little lies behind the body, never.
+  // A convex body of many faces (a tessellated sphere: 38 000 front planes, 6 MB) is `large`:
+  // segments are clipped through its silhouette (LargeConvex), and the full volume is built
+  // only if an exact path asks for it.
   mutable OcclusionVolume volume;
-  mutable std::unique_ptr<std::once_flag> deferred;
+  mutable std::unique_ptr<LargeConvex> large;
   std::vector<ExactPlane> faces;  // for the brute-force path
   // Pieces of a non-convex body: the canonical planes (Decomposition::piece_planes) of the
   // exact piece's faces turned to the viewpoint, decided exactly on their support triples;
@@ -223,6 +237,10 @@ class Roberts {
     // which candidates() then filters per edge instead of walking the grid again.
     std::vector<int> body_ids;
     bool use_body_ids = false;
+    // hidden_part() of large pieces: the front faces under the segment and their planes, kept
+    // until the segment is done (its parts' ends point into them).
+    std::vector<int> faces;
+    std::deque<std::vector<ExactPlane>> front_planes;
   };
 
   // The occluders whose picture box meets body b's and that are nearer than its farthest
@@ -244,10 +262,16 @@ class Roberts {
     HlrStats stats;
   };
 
-  // A piece's occlusion volume, built on first use when deferred (thread-safe).
+  // A piece's occlusion volume, built on first use for a large piece (thread-safe).
   const OcclusionVolume& volume(const HlrPiece& p) const;
   // Builds p's volume (a convex body's own piece: from the body's facings).
   void build_volume(const HlrPiece& p) const;
+  // A large piece's silhouette and front-face grid, built on first use (thread-safe).
+  const LargeConvex& silhouette_of(const HlrPiece& p) const;
+  // The part of segment p1p2 hidden by piece p (open), or nullopt: through the silhouette for
+  // a large piece, by the whole volume otherwise.
+  std::optional<SegmentPart> hidden_part(const HlrPiece& p, const Vec3& p1, const Vec3& p2,
+                                         Scratch& scratch) const;
 
   // Candidate occluders (piece ids, then facet ids offset by the piece count) for a segment.
   void candidates(const Vec3& a, const Vec3& b, Scratch& scratch, std::vector<int>& out) const;
@@ -351,8 +375,8 @@ class Roberts {
   static constexpr size_t kSequentialEdges = 512;
   // A body's faces decided in chunks of this many (one chunk, no task, below it).
   static constexpr size_t kFacingChunk = 8192;
-  // A convex body of at least this many faces gets a deferred occlusion volume (HlrPiece).
-  static constexpr int kDeferredVolumeFaces = 4096;
+  // A convex body of at least this many faces is a large piece (HlrPiece::large).
+  static constexpr int kLargePieceFaces = 4096;
   int threads_ = 0;
 };
 

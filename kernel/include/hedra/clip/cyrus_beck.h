@@ -152,6 +152,14 @@ Sign compare_ends(const SegmentEnd& a, const SegmentEnd& b, const Vec3& p1, cons
 /// Cost O(planes), exact arithmetic only for near-degenerate configurations.
 std::optional<SegmentPart> clip_segment_open(const ConvexClipper& clipper, const Vec3& p1,
                                              const Vec3& p2);
+/// The same for planes held by the caller (the ends point into `planes`; no plane: the whole
+/// segment).
+std::optional<SegmentPart> clip_segment_open(std::span<const ExactPlane> planes, const Vec3& p1,
+                                             const Vec3& p2);
+/// The part of p1p2 in both parts (the intersection of two open intervals), or nullopt.
+/// Cost O(1) exact comparisons.
+std::optional<SegmentPart> intersect_parts(const SegmentPart& a, const SegmentPart& b, const Vec3& p1,
+                                           const Vec3& p2);
 
 /// Sorts parts of one segment by their start and joins those that overlap or touch, exactly.
 /// In place. Cost O(k log k) comparisons.

@@ -79,6 +79,15 @@ OcclusionVolume occlusion_volume(const Body& convex_body, std::span<const Facing
                                  const Viewpoint& view,
                                  std::span<const ExactPlane> face_planes = {});
 
+/// occlusion_volume without the front faces' planes: `front_faces` and `silhouette` as there,
+/// the clipper holding only the silhouette edges' planes (std::nullopt when there are none).
+/// Within those planes a point is hidden exactly when it lies behind the front face its view
+/// ray meets (for a convex body every other front plane then holds too), so a caller that finds
+/// the front faces under a segment needs no other front plane (hidden lines of a body of many
+/// faces). Cost O(F + E).
+OcclusionVolume silhouette_volume(const Body& convex_body, std::span<const Facing> facing,
+                                  const Viewpoint& view);
+
 /// The occlusion volume of a triangle turned to the viewpoint (Occluders::Faces), without
 /// building a Body: `plane` is the plane of the triangle's support triple (exact_face_plane of
 /// face 0 of Body::two_sided_polygon(t)), and the planes are those occlusion_volume gives for
