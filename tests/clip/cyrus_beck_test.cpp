@@ -92,6 +92,37 @@ TEST(CyrusBeck, SegmentsBuiltOnVerticesEdgesAndFacesMatchExactRationals) {
   }
 }
 
+// The open clipper split in two: the intersection of the two parts (intersect_parts) is the
+// part clipped by all the planes at once, the same exact ends (hidden lines clip a large
+// convex body by its silhouette planes, then by the front faces under the segment).
+TEST(CyrusBeck, OpenPartsOfTwoPlaneSetsIntersectToThePartOfAll) {
+  std::mt19937_64 rng(77);
+  int both = 0;
+  for (int body = 0; body < 8; ++body) {
+    const Body b = testing::random_convex_body(rng, 10 + body * 4, 1.0, Vec3::Zero());
+    const ConvexClipper clipper(b);
+    const auto& planes = clipper.planes();
+    const size_t split = planes.size() / 3;
+    const std::span<const ExactPlane> all(planes), first = all.first(split), rest = all.subspan(split);
+    for (int i = 0; i < 300; ++i) {
+      const Vec3 p1 = random_point(rng, -2, 2), p2 = random_point(rng, -2, 2);
+      const std::optional<SegmentPart> whole = clip_segment_open(all, p1, p2);
+      const std::optional<SegmentPart> a = clip_segment_open(first, p1, p2), c = clip_segment_open(rest, p1, p2);
+      const std::optional<SegmentPart> joined = a && c ? intersect_parts(*a, *c, p1, p2) : std::nullopt;
+      ASSERT_EQ(whole.has_value(), joined.has_value()) << body << " " << i;
+      if (!whole) continue;
+      ++both;
+      EXPECT_EQ(compare_ends(whole->lo, joined->lo, p1, p2), Sign::Zero) << body << " " << i;
+      EXPECT_EQ(compare_ends(whole->hi, joined->hi, p1, p2), Sign::Zero) << body << " " << i;
+      const std::optional<SegmentPart> by_clipper = clip_segment_open(clipper, p1, p2);
+      ASSERT_TRUE(by_clipper);
+      EXPECT_EQ(by_clipper->lo.t, whole->lo.t);
+      EXPECT_EQ(by_clipper->hi.t, whole->hi.t);
+    }
+  }
+  EXPECT_GT(both, 100);
+}
+
 TEST(CyrusBeck, PointSegments) {
   const ConvexClipper c(box({0, 0, 0}, {2, 2, 2}));
   auto inside = clip_segment(c, {1, 1, 1}, {1, 1, 1});

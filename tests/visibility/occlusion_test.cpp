@@ -134,5 +134,30 @@ TEST(Occlusion, TriangleVolumeEqualsTheTwoSidedBodys) {
   EXPECT_GT(compared, 150);
 }
 
+// silhouette_volume is occlusion_volume without the front faces' planes: the same front faces
+// and silhouette edges, and the same silhouette planes, in the same order.
+TEST(Occlusion, SilhouetteVolumeIsTheVolumeLessItsFrontPlanes) {
+  const Body ball = sphere({0.3, -0.2, 1}, 1.2, 1e-2);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 12; ++trial) {
+    const Viewpoint view = trial % 2 ? Viewpoint::at(Vec3(6 * u(rng), 6 * u(rng), 6 + u(rng)))
+                                     : Viewpoint::towards(Vec3(u(rng), u(rng), u(rng) - 1.5));
+    std::vector<Facing> f(static_cast<size_t>(ball.face_count()));
+    for (int i = 0; i < ball.face_count(); ++i) f[static_cast<size_t>(i)] = facing(ball, i, view);
+    const OcclusionVolume full = occlusion_volume(ball, f, view), outer = silhouette_volume(ball, f, view);
+    ASSERT_TRUE(full.clipper && outer.clipper) << trial;
+    EXPECT_EQ(full.front_faces, outer.front_faces) << trial;
+    EXPECT_EQ(full.silhouette, outer.silhouette) << trial;
+    const auto &pf = full.clipper->planes(), &ps = outer.clipper->planes();
+    ASSERT_EQ(pf.size(), full.front_faces.size() + ps.size()) << trial;
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const ExactPlane& q = pf[full.front_faces.size() + i];
+      EXPECT_EQ(q.points(), ps[i].points()) << trial << " " << i;
+      EXPECT_EQ(q.negated(), ps[i].negated()) << trial << " " << i;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace hedra
