@@ -16,7 +16,6 @@
 #include <cmath>
 #include <memory>
 #include <optional>
-#include <ranges>
 #include <unordered_map>
 
 #include "hedra/core/error.h"
@@ -446,11 +445,17 @@ std::vector<char> faces_meeting(const Body& body, std::span<const Eigen::Aligned
   std::vector<char> out(face.size(), 0);
   for (size_t f = 0; f < face.size(); ++f)
     for (size_t k = 0; k < boxes.size() && !out[f]; ++k) out[f] = ((face[f] >> (6 * k)) & 63) == 0;
-  HEDRA_EXPENSIVE_ASSERT(std::ranges::all_of(std::views::iota(0, body.face_count()), [&](int f) {
-    const Eigen::AlignedBox3d box = face_box(body, f);
-    const bool meets = std::ranges::any_of(boxes, [&](const Eigen::AlignedBox3d& b) { return box.intersects(b); });
-    return meets == static_cast<bool>(out[static_cast<size_t>(f)]);
-  }), "faces_meeting: an outcode disagrees with the face's box");
+  // A plain loop, not std::views::iota: clang 14 (the sanitizer build) rejects that view with
+  // libstdc++ 12.
+  const auto agrees = [&] {
+    for (int f = 0; f < body.face_count(); ++f) {
+      const Eigen::AlignedBox3d box = face_box(body, f);
+      const bool meets = std::any_of(boxes.begin(), boxes.end(), [&](const Eigen::AlignedBox3d& b) { return box.intersects(b); });
+      if (meets != static_cast<bool>(out[static_cast<size_t>(f)])) return false;
+    }
+    return true;
+  };
+  HEDRA_EXPENSIVE_ASSERT(agrees(), "faces_meeting: an outcode disagrees with the face's box");
   return out;
 }
 
