@@ -31,6 +31,19 @@ TEST(Predicates, ExactWhereFloatingPointFails) {
   EXPECT_EQ(orient3d(a, b, c, d - Vec3(0, 0, 1)), Sign::Negative);
 }
 
+TEST(Predicates, Orient3dOfTwoEqualPointsIsZeroEvenWhereTheFilterCannotDecide) {
+  // Coordinates near 1e200: the permanent overflows, so the static filter passes every
+  // question on; with two equal points the answer is Zero before any exact stage. A point a
+  // hair off the plane (one ulp of 1e200 in z) stays decided by the exact stages.
+  const Vec3 a(1e200, 0, 0), b(0, 1e200, 0), c(0, 0, 1e200);
+  EXPECT_EQ(orient3d(a, b, c, a), Sign::Zero);
+  EXPECT_EQ(orient3d(a, b, c, c), Sign::Zero);
+  EXPECT_EQ(orient3d(a, a, c, Vec3(1, 2, 3)), Sign::Zero);
+  EXPECT_EQ(orient3d(a, b, b, Vec3(1, 2, 3)), Sign::Zero);
+  EXPECT_EQ(orient3d(a, b, c, Vec3(0, 0, std::nextafter(1e200, 2e200))), Sign::Positive);
+  EXPECT_EQ(orient3d(a, b, c, Vec3(0, 0, std::nextafter(1e200, 0.0))), Sign::Negative);
+}
+
 TEST(Predicates, SideOfPlaneIsExact) {
   Plane p(1, 1, 1, -1);
   EXPECT_EQ(side_of_plane(p, Vec3(0.5, 0.25, 0.25)), Sign::Zero);

@@ -86,6 +86,10 @@ std::optional<Sign> det3_filter(const Vec3& u, const Vec3& v, const Vec3& w) {
 
 Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   if (const auto s = det3_filter(b - a, c - a, d - a)) return *s;
+  // Two equal points make the determinant exactly zero; the interval stage cannot see that and
+  // Mpzf costs a few hundred ns with allocations. Callers ask this often (a face's plane
+  // against a neighbour list that holds the face's own corners).
+  if (d == a || d == b || d == c || a == b || a == c || b == c) return Sign::Zero;
   return det3_exact(a, b, c, d, true);
 }
 
