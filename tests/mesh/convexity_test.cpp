@@ -401,6 +401,30 @@ TEST(IsConvex, ThousandsOfFloatRoundedFacesListTheDefinitionsFacesWhateverTheThr
   EXPECT_EQ(all_threads, one_thread);
 }
 
+TEST(IsConvex, HullsOfSeveralPartsListTheDefinitionsFaces) {
+  // The hull-based listing splits the vertices into slabs with a hull each (in parallel) on
+  // large bodies; the list must be the definition's whatever the number of slabs. A float
+  // sphere (faces listed through the hulls' neighbours), and a comb, where
+  // the vertex outside a face's plane lies in another slab than the face (a climb).
+  Body s = sphere({0.1, 0.2, 0.3}, 1, 2e-3);
+  std::vector<Vec3> v;
+  for (const Vec3& p : s.vertices())
+    v.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  std::vector<Face> f;
+  for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
+  const Body rounded(v, f);
+  const std::vector<int> oracle = testing::nonconvex_faces_oracle(rounded);
+  ASSERT_FALSE(oracle.empty());
+  const Body dented = comb(12);
+  const std::vector<int> dented_oracle = testing::nonconvex_faces_oracle(dented);
+  ASSERT_FALSE(dented_oracle.empty());
+  for (int parts : {1, 2, 3, 5, 16}) {
+    SCOPED_TRACE(parts);
+    EXPECT_EQ(internal::nonconvex_faces_in_parts(rounded, parts), oracle);
+    EXPECT_EQ(internal::nonconvex_faces_in_parts(dented, parts), dented_oracle);
+  }
+}
+
 TEST(IsConvex, FineSphereIsConvex) {
 #ifdef HEDRA_SANITIZED
   Body s = sphere({1, 2, 3}, 2, 2e-4, 1000000);  // about 49 000 faces under ASan + UBSan

@@ -35,6 +35,10 @@ namespace {
 
 enum class Verdict { Convex, NotConvex, Unknown };
 
+// nonconvex_faces_by_hull(): at least this many vertices per hull before the vertices are
+// split into parts whose hulls are built in parallel.
+constexpr int kHullPartVertices = 65536;
+
 // A planar piece of the certified surface: a planar face (face >= 0, plane through its support
 // triple) or one triangle of a quadrilateral whose rounded vertices are not coplanar.
 struct Piece {
@@ -518,8 +522,10 @@ Sign compare_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w, c
 // vertex along f's outer normal is strictly outside": from a support vertex of f on the hull,
 // look at its hull neighbours; otherwise climb the hull graph with exact comparisons. A face
 // with a vertex of its own strictly outside its plane (rounded) is checked against every vertex.
-// Cost O(V log V) for the hull, then O(hull degree) per face with a vertex on the hull.
-std::vector<int> nonconvex_faces_by_hull(const Body& body) {
+// With k parts (slabs of the sorted vertices, hulls built in parallel), each part's hull graph
+// answers for its vertices. Cost O(V log V) for the hulls, then O(k · hull degree) per face
+// with a vertex on a hull, plus the climbs.
+std::vector<int> nonconvex_faces_by_hull(const Body& body, int requested_parts = 0) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   const auto& v = body.vertices();
   const int n = body.vertex_count();
@@ -530,51 +536,98 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
     return std::tie(p.x(), p.y(), p.z()) < std::tie(q.x(), q.y(), q.z());
   };
   std::sort(by_position.begin(), by_position.end(), less);
-  std::vector<K::Point_3> points;
-  points.reserve(v.size());
-  for (const Vec3& p : v) points.emplace_back(p.x(), p.y(), p.z());
-  // The hull as an indexed triangle set: no halfedge mesh is built from CGAL's triangulation
+  // The vertices in `parts` runs of the sorted order (slabs along x), each with its own hull,
+  // built in parallel: a face is non-convex when some part has a vertex outside its plane, and
+  // each part's hull graph answers that for its part. One part below kHullPartVertices
+  // vertices per part, or when a part is flat (its hull would not be a polytope).
+  const int parts = [&] {
+    int k = requested_parts > 0 ? std::min(requested_parts, std::max(1, n / 4))
+                                : std::clamp(n / kHullPartVertices, 1, std::max(1, bounded_threads(0)));
+    for (int p = 0; p < k && k > 1; ++p) {
+      const size_t lo = static_cast<size_t>(p) * static_cast<size_t>(n) / static_cast<size_t>(k),
+                   hi = static_cast<size_t>(p + 1) * static_cast<size_t>(n) / static_cast<size_t>(k);
+      auto at = [&](size_t i) {
+        const Vec3& q = v[static_cast<size_t>(by_position[i])];
+        return K::Point_3(q.x(), q.y(), q.z());
+      };
+      // Flat unless four points span space: a, then b ≠ a, then c off line ab, then d off plane abc.
+      size_t ib = lo + 1;
+      while (ib < hi && at(ib) == at(lo)) ++ib;
+      size_t ic = ib + 1;
+      while (ic < hi && CGAL::collinear(at(lo), at(ib), at(ic))) ++ic;
+      size_t id = ic + 1;
+      while (id < hi && CGAL::coplanar(at(lo), at(ib), at(ic), at(id))) ++id;
+      if (ib >= hi || ic >= hi || id >= hi) k = 1;
+    }
+    return k;
+  }();
+  auto part_begin = [&](int p) {
+    return static_cast<size_t>(p) * static_cast<size_t>(n) / static_cast<size_t>(parts);
+  };
+  std::vector<int> part_of(v.size(), 0);
+  for (int p = 0; p < parts; ++p)
+    for (size_t i = part_begin(p); i < part_begin(p + 1); ++i)
+      part_of[static_cast<size_t>(by_position[i])] = p;
+  // The hulls as indexed triangle sets: no halfedge mesh is built from CGAL's triangulation
   // (copying it into a Surface_mesh through hash maps took longer than the hull). The traits
   // are the exact ones CGAL picks for a Surface_mesh; CGAL 5.5's own indexed-triangle-set
-  // overload takes the kernel's rounded Plane_3 instead, whose hull is not exact.
-  std::vector<K::Point_3> hull_points;
-  std::vector<std::array<std::size_t, 3>> hull_triangles;
-  {
-    using Traits = CGAL::Convex_hull_traits_3<K, CGAL::Surface_mesh<K::Point_3>, CGAL::Tag_true>;
-    CGAL::Convex_hull_3::internal::Indexed_triangle_set<std::vector<K::Point_3>,
-                                                        std::vector<std::array<std::size_t, 3>>>
-        its(hull_points, hull_triangles);
-    CGAL::convex_hull_3(points.begin(), points.end(), its, Traits());
-  }
-  // Hull graph on body vertex indices (CSR); on_hull[i] for hull vertices.
-  const size_t hull_size = hull_points.size();
-  std::vector<int> body_id(hull_size, -1);
+  // overload takes the kernel's rounded Plane_3 instead, whose hull is not exact. Hull
+  // triangles are stored with body vertex indices (found in the part's run of the sorted order).
+  std::vector<std::vector<std::array<int, 3>>> hull_triangles(static_cast<size_t>(parts));
   std::vector<char> on_hull(v.size(), 0);
-  for (size_t h = 0; h < hull_size; ++h) {
-    const K::Point_3& q = hull_points[h];
-    const Vec3 p(q.x(), q.y(), q.z());
-    auto it = std::lower_bound(by_position.begin(), by_position.end(), -1, [&](int i, int) {
-      const Vec3& r = v[static_cast<size_t>(i)];
-      return std::tie(r.x(), r.y(), r.z()) < std::tie(p.x(), p.y(), p.z());
-    });
-    body_id[h] = *it;
-    on_hull[static_cast<size_t>(*it)] = 1;
-  }
-  // Neighbours of body vertex x: neighbour[neighbour_start[x] … neighbour_start[x + 1]), from
-  // both other corners of every hull triangle at x (so each hull neighbour is listed twice).
+  parallel_for(static_cast<size_t>(parts), 0, [&](size_t p) {
+    const size_t lo = part_begin(static_cast<int>(p)), hi = part_begin(static_cast<int>(p) + 1);
+    std::vector<K::Point_3> points;
+    points.reserve(hi - lo);
+    for (size_t i = lo; i < hi; ++i) {
+      const Vec3& q = v[static_cast<size_t>(by_position[i])];
+      points.emplace_back(q.x(), q.y(), q.z());
+    }
+    std::vector<K::Point_3> hull_points;
+    std::vector<std::array<std::size_t, 3>> triangles;
+    {
+      using Traits = CGAL::Convex_hull_traits_3<K, CGAL::Surface_mesh<K::Point_3>, CGAL::Tag_true>;
+      CGAL::Convex_hull_3::internal::Indexed_triangle_set<std::vector<K::Point_3>,
+                                                          std::vector<std::array<std::size_t, 3>>>
+          its(hull_points, triangles);
+      CGAL::convex_hull_3(points.begin(), points.end(), its, Traits());
+    }
+    std::vector<int> body_id(hull_points.size(), -1);
+    for (size_t h = 0; h < hull_points.size(); ++h) {
+      const K::Point_3& q = hull_points[h];
+      const Vec3 x(q.x(), q.y(), q.z());
+      auto it = std::lower_bound(by_position.begin() + static_cast<std::ptrdiff_t>(lo),
+                                 by_position.begin() + static_cast<std::ptrdiff_t>(hi), -1,
+                                 [&](int i, int) {
+                                   const Vec3& r = v[static_cast<size_t>(i)];
+                                   return std::tie(r.x(), r.y(), r.z()) < std::tie(x.x(), x.y(), x.z());
+                                 });
+      body_id[h] = *it;
+      on_hull[static_cast<size_t>(*it)] = 1;  // each vertex is in one part: no race
+    }
+    auto& out = hull_triangles[p];
+    out.reserve(triangles.size());
+    for (const auto& t : triangles)
+      out.push_back({body_id[t[0]], body_id[t[1]], body_id[t[2]]});
+  });
+  // Neighbours of body vertex x on its part's hull: neighbour[neighbour_start[x] …
+  // neighbour_start[x + 1]), from both other corners of every hull triangle at x (so each
+  // hull neighbour is listed twice).
   std::vector<int> neighbour_start(v.size() + 1, 0), neighbour;
-  for (const auto& t : hull_triangles)
-    for (std::size_t a : t) neighbour_start[static_cast<size_t>(body_id[a]) + 1] += 2;
+  for (const auto& list : hull_triangles)
+    for (const auto& t : list)
+      for (int a : t) neighbour_start[static_cast<size_t>(a) + 1] += 2;
   for (size_t x = 0; x < v.size(); ++x) neighbour_start[x + 1] += neighbour_start[x];
   neighbour.resize(static_cast<size_t>(neighbour_start[v.size()]));
   {
     std::vector<int> fill(neighbour_start.begin(), neighbour_start.end() - 1);
-    for (const auto& t : hull_triangles)
-      for (size_t i = 0; i < 3; ++i) {
-        const size_t a = static_cast<size_t>(body_id[t[i]]);
-        neighbour[static_cast<size_t>(fill[a]++)] = body_id[t[(i + 1) % 3]];
-        neighbour[static_cast<size_t>(fill[a]++)] = body_id[t[(i + 2) % 3]];
-      }
+    for (const auto& list : hull_triangles)
+      for (const auto& t : list)
+        for (size_t i = 0; i < 3; ++i) {
+          const size_t a = static_cast<size_t>(t[i]);
+          neighbour[static_cast<size_t>(fill[a]++)] = t[(i + 1) % 3];
+          neighbour[static_cast<size_t>(fill[a]++)] = t[(i + 2) % 3];
+        }
   }
   auto neighbours = [&](int x) {
     return std::span<const int>(neighbour.data() + neighbour_start[static_cast<size_t>(x)],
@@ -584,13 +637,14 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
   // Each face on its own, in parallel blocks: a face's answer is the sign of the largest
   // value along its normal, whichever hull vertex the climb starts from, so the list does not
   // depend on the blocks or threads. Each block keeps its own start and stamps.
-  int first_top = -1;
-  for (int i = 0; i < n && first_top < 0; ++i)
-    if (on_hull[static_cast<size_t>(i)]) first_top = i;
+  std::vector<int> first_top(static_cast<size_t>(parts), -1);
+  for (int i = 0; i < n; ++i)
+    if (on_hull[static_cast<size_t>(i)] && first_top[static_cast<size_t>(part_of[static_cast<size_t>(i)])] < 0)
+      first_top[static_cast<size_t>(part_of[static_cast<size_t>(i)])] = i;
   const int face_count = body.face_count();
   std::vector<char> nonconvex(static_cast<size_t>(face_count), 0);
   parallel_blocks(static_cast<size_t>(face_count), 0, 2048, [&](size_t begin, size_t end) {
-    int top = first_top;  // last maximum found: a good start for the next
+    std::vector<int> top = first_top;  // last maximum found in each part: a good start for the next
     std::vector<int> stamp;  // sized on the first face with a vertex outside its own plane
     for (int f = static_cast<int>(begin); f < static_cast<int>(end); ++f) {
       const auto& s = body.support(f);
@@ -611,14 +665,18 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
           outside = stamp[static_cast<size_t>(x)] != f && phi(x) == Sign::Positive;
       } else {
         // Every vertex of f is on or inside its plane, so a vertex strictly outside is not on f.
-        int start = -1;
-        for (int x : s)
-          if (on_hull[static_cast<size_t>(x)]) start = x;
-        if (start >= 0) {
-          for (int w : neighbours(start))
-            if (phi(w) == Sign::Positive) { outside = true; break; }
-        } else {
-          int u = top;
+        // In each part: from a support vertex of f on the part's hull, its hull neighbours;
+        // otherwise the climb to the part's highest vertex.
+        for (int part = 0; part < parts && !outside; ++part) {
+          int start = -1;
+          for (int x : s)
+            if (on_hull[static_cast<size_t>(x)] && part_of[static_cast<size_t>(x)] == part) start = x;
+          if (start >= 0) {
+            for (int w : neighbours(start))
+              if (phi(w) == Sign::Positive) { outside = true; break; }
+            continue;
+          }
+          int u = top[static_cast<size_t>(part)];
           for (bool moved = true; moved;) {
             moved = false;
             for (int w : neighbours(u))
@@ -629,7 +687,7 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
                 break;
               }
           }
-          top = u;
+          top[static_cast<size_t>(part)] = u;
           outside = phi(u) == Sign::Positive;
         }
       }
@@ -647,6 +705,10 @@ std::vector<int> nonconvex_faces_by_hull(const Body& body) {
 ConvexityCertificate certify_convexity(const Body& body) { return internal::certify_convexity_along(body, std::nullopt); }
 
 namespace internal {
+
+std::vector<int> nonconvex_faces_in_parts(const Body& body, int parts) {
+  return nonconvex_faces_by_hull(body, parts);
+}
 
 ConvexityCertificate certify_convexity_along(const Body& body, const std::optional<Vec3>& ray) {
   switch (Certificate(body, ray).run()) {

@@ -59,6 +59,10 @@ namespace internal {
 /// the direction it picks (tests: a ray through an edge or a corner takes the floating-point
 /// winding sum instead).
 ConvexityCertificate certify_convexity_along(const Body& body, const std::optional<Vec3>& ray);
+/// The hull-based list of non-convex faces of convexity(), with the vertices split into `parts`
+/// slabs whose hulls are built in parallel (convexity() picks one part per 65 536 vertices, at
+/// most one per thread; a flat slab makes it one part). The list does not depend on `parts`.
+std::vector<int> nonconvex_faces_in_parts(const Body& body, int parts);
 }  // namespace internal
 
 /// Exact test with the list of non-convex faces: the verdict of is_convex(); when the body is
