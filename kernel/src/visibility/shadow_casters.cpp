@@ -30,7 +30,7 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolu
     : pieces_(pieces), view_(view), margin_(1e-9 * scale) {
   if (!view.at_infinity) {
     // The angular grid (shadows_internal.h): the frame from the pieces' mean direction, then
-    // about four cells per small piece over the range of their cones.
+    // about one cell per small piece over the range of their cones.
     std::vector<int> active;
     Vec3 mean = Vec3::Zero();
     for (size_t p = 0; p < pieces.size(); ++p) {
@@ -69,7 +69,11 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolu
     }
     if (small.empty()) return;
     const double tr = std::max(t_hi - t_lo, 1e-12), pr = std::max(p_hi - p_lo, 1e-12);
-    const double cells_wanted = std::min(4.0 * static_cast<double>(small.size()), 4.0e6);
+    // One cell per small piece. With four (before), the 1M-triangle sphere under a point light
+    // listed 24.6 M cells and 659 M entries for 446 000 faces, 50.6 M of them distinct pieces;
+    // with one, 7.8 M cells and 285 M entries for 58.9 M distinct (the candidates passed on,
+    // 28.5 M, are the same: the cone test decides). Fewer, larger cells: fewer repeated entries.
+    const double cells_wanted = std::min(static_cast<double>(small.size()), 4.0e6);
     n_theta_ = std::clamp(static_cast<int>(std::ceil(std::sqrt(cells_wanted * tr / pr))), 1, 4096);
     n_phi_ = std::clamp(static_cast<int>(std::ceil(cells_wanted / n_theta_)), 1, 4096);
     t_lo_ = t_lo, t_scale_ = n_theta_ / tr, p_lo_ = p_lo, p_scale_ = n_phi_ / pr;
