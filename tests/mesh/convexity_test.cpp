@@ -366,30 +366,30 @@ TEST(IsConvex, WindingCountedAlongARayThroughEdgesAndCornersFallsBackToTheSolidA
   }
 }
 
-TEST(IsConvex, FloatRoundedTriangleSphereListsTheSameFacesAsTheDefinition) {
-  // A sphere's triangles with coordinates rounded to float (as binary STL stores them): many
-  // diagonals of the former quadrilaterals become slightly reflex, so the body is not convex,
-  // and the non-convex faces come from the hull-based listing.
-  Body s = sphere({0.1, 0.2, 0.3}, 1, 2e-3);
+// A sphere's triangles (chordal tolerance `tolerance`) with coordinates rounded to float, as
+// binary STL stores them.
+Body float_triangle_sphere(double tolerance) {
+  const Body s = sphere({0.1, 0.2, 0.3}, 1, tolerance);
   std::vector<Vec3> v;
   for (const Vec3& p : s.vertices())
     v.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
   std::vector<Face> f;
   for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
-  Body rounded(v, f);
+  return Body(v, f);
+}
+
+TEST(IsConvex, FloatRoundedTriangleSphereListsTheSameFacesAsTheDefinition) {
+  // A sphere's triangles with coordinates rounded to float (as binary STL stores them): many
+  // diagonals of the former quadrilaterals become slightly reflex, so the body is not convex,
+  // and the non-convex faces come from the hull-based listing.
+  const Body rounded = float_triangle_sphere(2e-3);
   expect_matches_oracle(rounded, "float sphere");
   EXPECT_FALSE(convexity(rounded).nonconvex_faces.empty());
 }
 
 TEST(IsConvex, ThousandsOfFloatRoundedFacesListTheDefinitionsFacesWhateverTheThreads) {
   // Enough faces for several parallel blocks of the hull-based listing.
-  Body s = sphere({0.1, 0.2, 0.3}, 1, 6e-4);
-  std::vector<Vec3> v;
-  for (const Vec3& p : s.vertices())
-    v.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-  std::vector<Face> f;
-  for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
-  Body rounded(v, f);
+  const Body rounded = float_triangle_sphere(6e-4);
   ASSERT_GT(rounded.face_count(), 3 * 2048) << rounded.face_count();
 #ifndef HEDRA_SANITIZED  // the O(F·V) oracle on 6000 faces: 55 s under ASan + UBSan
   expect_matches_oracle(rounded, "float sphere, thousands of faces");
@@ -404,24 +404,18 @@ TEST(IsConvex, ThousandsOfFloatRoundedFacesListTheDefinitionsFacesWhateverTheThr
 TEST(IsConvex, HullsOfSeveralPartsListTheDefinitionsFaces) {
   // The hull-based listing splits the vertices into slabs with a hull each (in parallel) on
   // large bodies; the list must be the definition's whatever the number of slabs. A float
-  // sphere (faces listed through the hulls' neighbours), and a comb, where
-  // the vertex outside a face's plane lies in another slab than the face (a climb).
-  Body s = sphere({0.1, 0.2, 0.3}, 1, 2e-3);
-  std::vector<Vec3> v;
-  for (const Vec3& p : s.vertices())
-    v.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-  std::vector<Face> f;
-  for (const Triangle& t : s.triangles()) f.push_back(Face{t.v[0], t.v[1], t.v[2]});
-  const Body rounded(v, f);
+  // sphere (faces listed through the hulls' neighbours), and a comb, where the vertex outside
+  // a face's plane lies in another slab than the face (a climb).
+  const Body rounded = float_triangle_sphere(2e-3);
   const std::vector<int> oracle = testing::nonconvex_faces_oracle(rounded);
   ASSERT_FALSE(oracle.empty());
-  const Body dented = comb(12);
-  const std::vector<int> dented_oracle = testing::nonconvex_faces_oracle(dented);
-  ASSERT_FALSE(dented_oracle.empty());
+  const Body teeth = comb(12);
+  const std::vector<int> teeth_oracle = testing::nonconvex_faces_oracle(teeth);
+  ASSERT_FALSE(teeth_oracle.empty());
   for (int parts : {1, 2, 3, 5, 16}) {
     SCOPED_TRACE(parts);
     EXPECT_EQ(internal::nonconvex_faces_in_parts(rounded, parts), oracle);
-    EXPECT_EQ(internal::nonconvex_faces_in_parts(dented, parts), dented_oracle);
+    EXPECT_EQ(internal::nonconvex_faces_in_parts(teeth, parts), teeth_oracle);
   }
 }
 
