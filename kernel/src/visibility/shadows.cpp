@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <numeric>
 
 #include "hedra/core/error.h"
@@ -305,6 +306,18 @@ ShadowScene& ShadowScene::operator=(ShadowScene&&) noexcept = default;
 
 int ShadowScene::piece_count() const { return static_cast<int>(impl_->pieces.size()); }
 
+namespace {
+
+// A region kept for a face as polygons with holes: the union unite_convex chained, or where none
+// was kept (the face wholly shadowed) the union of the pieces, here the face's convex parts.
+std::vector<PolygonWithHoles2> region_of(const std::vector<PolygonWithHoles2>& united,
+                                         const std::vector<Ring2>& pieces) {
+  if (!united.empty() || pieces.empty()) return united;
+  return unite_convex(pieces, true).polygons;
+}
+
+}  // namespace
+
 ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
                                   const ShadowOptions& options) const {
   const Impl& m = *impl_;
@@ -313,8 +326,10 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
   const size_t nf = m.faces.size();
   const bool keep_pieces =
       options.polygons && (options.visible_parts || (options.counts && lights.size() >= 2));
-  // 2D shadow pieces per light and face, kept for the visible parts and the counts.
+  // 2D shadow pieces per light and face, kept for the visible parts and the counts, and their
+  // union as unite_convex chained it (empty where the face is wholly shadowed: its parts then).
   std::vector<std::vector<std::vector<Ring2>>> kept(lights.size());
+  std::vector<std::vector<std::vector<PolygonWithHoles2>>> kept_union(lights.size());
   // ShadowOptions::progress: the lights' passes share the first 80 %, the visible parts and the
   // counts the rest; units are faces.
   ProgressMeter meter(options.progress, "shadows cancelled");
@@ -333,7 +348,10 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       volumes = m.volumes(view, options.threads);
       index.emplace(m.pieces, volumes, view, m.scale, options.threads);
     }
-    if (keep_pieces) kept[l].resize(nf);
+    if (keep_pieces) {
+      kept[l].resize(nf);
+      kept_union[l].resize(nf);
+    }
     meter.stage(0.8 * l / passes, 0.8 * (l + 1) / passes, static_cast<double>(nf));
     parallel_for(nf, options.threads, [&](size_t i) {
       meter.add();
@@ -359,7 +377,10 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       const UnionResult u = unite_convex(rings, options.polygons);
       fs.shadow_area = std::min(u.area * fd.area_factor, fs.area);
       for (const PolygonWithHoles2& p : u.polygons) fs.polygons.push_back(lift_polygon(fd, p));
-      if (keep_pieces) kept[l][i] = std::move(rings);
+      if (keep_pieces) {
+        kept[l][i] = std::move(rings);
+        kept_union[l][i] = u.polygons;
+      }
     });
     meter.finish_stage();
     result.lights.push_back(std::move(ls));
@@ -380,6 +401,10 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       if (!any || !result.lights[0].faces[i].visible) return;
       std::vector<Ring2> hidden;
       m.hidden_pieces(b, f, eye_index, eye_volumes, hidden);
+      // The difference of the two unions, not of their pieces: on a large face of a mesh scene
+      // both are hundreds of thousands of pieces and their unions a few thousand vertices.
+      std::vector<Region2> hidden_union(1);
+      if (!hidden.empty()) hidden_union[0] = unite_convex(hidden, true).polygons;
       for (size_t l = 0; l < lights.size(); ++l) {
         FaceShadow& fs = result.lights[l].faces[i];
         if (kept[l][i].empty()) continue;
@@ -388,10 +413,12 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
           fs.visible_shadow_area = fs.shadow_area;
           continue;
         }
-        const UnionResult v = cgal_difference(kept[l][i], hidden);
-        for (const PolygonWithHoles2& p : v.polygons)
+        std::optional<UnionResult> v =
+            cgal_difference(region_of(kept_union[l][i], kept[l][i]), hidden_union);
+        if (!v) v = cgal_difference(kept[l][i], hidden);
+        for (const PolygonWithHoles2& p : v->polygons)
           fs.visible_polygons.push_back(lift_polygon(fd, p));
-        fs.visible_shadow_area = v.area * fd.area_factor;
+        fs.visible_shadow_area = v->area * fd.area_factor;
       }
     });
     meter.finish_stage();
@@ -434,19 +461,31 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       }
       // The face outside every cast shadow keeps the count of the wholly shadowing lights.
       if (whole > 0) {
-        std::vector<Ring2> all;
-        for (size_t l : partial) all.insert(all.end(), kept[l][i].begin(), kept[l][i].end());
-        const UnionResult rest = cgal_difference(fd.parts2d(), all);
-        if (!rest.polygons.empty()) add(whole, rest.area * fd.area_factor, lifted(rest));
+        std::vector<Region2> shadowed;
+        for (size_t l : partial) shadowed.push_back(region_of(kept_union[l][i], kept[l][i]));
+        std::optional<UnionResult> rest =
+            cgal_difference(unite_convex(fd.parts2d(), true).polygons, shadowed);
+        if (!rest) {
+          std::vector<Ring2> all;
+          for (size_t l : partial) all.insert(all.end(), kept[l][i].begin(), kept[l][i].end());
+          rest = cgal_difference(fd.parts2d(), all);
+        }
+        if (!rest->polygons.empty()) add(whole, rest->area * fd.area_factor, lifted(*rest));
       }
       if (partial.size() == 1) {
         const FaceShadow& fs = result.lights[partial[0]].faces[i];
         add(whole + 1, fs.shadow_area, fs.polygons);
         return;
       }
-      std::vector<std::vector<Ring2>> sets;
-      for (size_t l : partial) sets.push_back(kept[l][i]);
-      const std::vector<UnionResult> levels = cgal_coverage_levels(sets);
+      std::vector<Region2> regions;
+      for (size_t l : partial) regions.push_back(region_of(kept_union[l][i], kept[l][i]));
+      std::optional<std::vector<UnionResult>> by_regions = cgal_coverage_levels(regions);
+      if (!by_regions) {
+        std::vector<std::vector<Ring2>> sets;
+        for (size_t l : partial) sets.push_back(kept[l][i]);
+        by_regions = cgal_coverage_levels(sets);
+      }
+      const std::vector<UnionResult>& levels = *by_regions;
       for (size_t k = 0; k < levels.size(); ++k)
         if (!levels[k].polygons.empty())
           add(whole + static_cast<int>(k + 1), levels[k].area * fd.area_factor, lifted(levels[k]));
