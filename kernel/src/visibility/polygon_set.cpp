@@ -12,8 +12,9 @@
 #include <algorithm>
 #include <iterator>
 #include <map>
-#include <boost/variant/get.hpp>
 #include <optional>
+
+#include <boost/variant/get.hpp>
 
 namespace hedra {
 namespace {

@@ -460,11 +460,11 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
         return;
       }
       // The face outside every cast shadow keeps the count of the wholly shadowing lights.
+      std::vector<Region2> regions;  // each partially shadowing light's shadow
+      for (size_t l : partial) regions.push_back(region_of(kept_union[l][i], kept[l][i]));
       if (whole > 0) {
-        std::vector<Region2> shadowed;
-        for (size_t l : partial) shadowed.push_back(region_of(kept_union[l][i], kept[l][i]));
         std::optional<UnionResult> rest =
-            cgal_difference(unite_convex(fd.parts2d(), true).polygons, shadowed);
+            cgal_difference(unite_convex(fd.parts2d(), true).polygons, regions);
         if (!rest) {
           std::vector<Ring2> all;
           for (size_t l : partial) all.insert(all.end(), kept[l][i].begin(), kept[l][i].end());
@@ -477,8 +477,6 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
         add(whole + 1, fs.shadow_area, fs.polygons);
         return;
       }
-      std::vector<Region2> regions;
-      for (size_t l : partial) regions.push_back(region_of(kept_union[l][i], kept[l][i]));
       std::optional<std::vector<UnionResult>> by_regions = cgal_coverage_levels(regions);
       if (!by_regions) {
         std::vector<std::vector<Ring2>> sets;
