@@ -342,34 +342,37 @@ Ring2 drop_straight(const Ring2& ring) {
 // Chains the boundary portions into rings and groups them into polygons with holes.
 // Returns false when some portion has no successor (rounded crossings that differ).
 bool chain(std::vector<Portion> portions, std::vector<PolygonWithHoles2>& result) {
-  // Starts sorted by point, for lookups by exact point.
-  std::vector<std::pair<Vec2, int>> starts(portions.size());
-  for (size_t k = 0; k < portions.size(); ++k) starts[k] = {portions[k].p, static_cast<int>(k)};
+  // Starts and ends sorted by exact point; one merge of the two gives every portion the range
+  // of starts at its end point (its candidate successors). O(n log n) for the sorts, then
+  // linear: no search per portion.
   const auto by_point = [](const std::pair<Vec2, int>& a, const std::pair<Vec2, int>& b) {
     return lex_less(a.first, b.first) || (a.first == b.first && a.second < b.second);
   };
+  std::vector<std::pair<Vec2, int>> starts(portions.size()), ends(portions.size());
+  for (size_t k = 0; k < portions.size(); ++k) starts[k] = {portions[k].p, static_cast<int>(k)};
   std::sort(starts.begin(), starts.end(), by_point);
-  const auto range = [&](const Vec2& q) {
-    auto lo = std::lower_bound(starts.begin(), starts.end(), std::pair<Vec2, int>(q, -1), by_point);
-    auto hi = lo;
-    while (hi != starts.end() && hi->first == q) ++hi;
-    return std::make_pair(lo, hi);
+  std::vector<std::pair<int, int>> successors(portions.size());  // [lo, hi) in starts
+  // Fills successors; false when some end has no start at its point.
+  const auto match = [&] {
+    for (size_t k = 0; k < portions.size(); ++k) ends[k] = {portions[k].q, static_cast<int>(k)};
+    std::sort(ends.begin(), ends.end(), by_point);
+    bool all = true;
+    size_t a = 0;
+    for (size_t b = 0; b < ends.size();) {
+      const Vec2 q = ends[b].first;
+      while (a < starts.size() && lex_less(starts[a].first, q)) ++a;
+      size_t hi = a;
+      while (hi < starts.size() && starts[hi].first == q) ++hi;
+      all = all && hi > a;
+      for (; b < ends.size() && ends[b].first == q; ++b)
+        successors[static_cast<size_t>(ends[b].second)] = {static_cast<int>(a), static_cast<int>(hi)};
+    }
+    return all;
   };
   // Where three or more edges cross at one exact point, the rounded crossings of different
   // pairs can differ by an ulp: an end with no start at its point is joined to the nearest
   // start that has no end at its point (within rounding of the coordinates).
-  bool unmatched = false;  // the full balance below only when some end has no start at all
-  for (const Portion& P : portions) {
-    const auto [lo, hi] = range(P.q);
-    if (lo == hi) {
-      unmatched = true;
-      break;
-    }
-  }
-  if (unmatched) {
-    std::vector<std::pair<Vec2, int>> ends(portions.size());
-    for (size_t k = 0; k < portions.size(); ++k) ends[k] = {portions[k].q, static_cast<int>(k)};
-    std::sort(ends.begin(), ends.end(), by_point);
+  if (!match()) {
     std::vector<Vec2> free_starts;
     std::vector<int> orphan_ends;
     size_t a = 0, b = 0;
@@ -399,6 +402,7 @@ bool chain(std::vector<Portion> portions, std::vector<PolygonWithHoles2>& result
       q = free_starts[best];
       free_starts.erase(free_starts.begin() + static_cast<std::ptrdiff_t>(best));
     }
+    if (!match()) return false;
   }
   std::vector<char> used(portions.size(), 0);
   std::vector<Ring2> outers, holes;
@@ -410,13 +414,14 @@ bool chain(std::vector<Portion> portions, std::vector<PolygonWithHoles2>& result
       used[static_cast<size_t>(cur)] = 1;
       const Portion& P = portions[static_cast<size_t>(cur)];
       ring.push_back(P.p);
-      const auto [lo, hi] = range(P.q);
+      const auto [lo, hi] = successors[static_cast<size_t>(cur)];
       if (lo == hi) return false;
       int next = -1;
       double best = -1;
       const Vec2 back = P.p - P.q;
-      for (auto it = lo; it != hi; ++it) {
-        const int cand = it->second;
+      if (hi - lo == 1) next = starts[static_cast<size_t>(lo)].second;  // the only way on
+      for (int it = lo; hi - lo > 1 && it != hi; ++it) {
+        const int cand = starts[static_cast<size_t>(it)].second;
         if (used[static_cast<size_t>(cand)] && cand != static_cast<int>(first)) continue;
         const Portion& C = portions[static_cast<size_t>(cand)];
         const double a = ccw_angle(back, C.q - C.p);
