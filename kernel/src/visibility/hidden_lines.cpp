@@ -278,6 +278,7 @@ void Roberts::prepare_bodies() {
     for (HlrFacet& f : per_body[b].facets) facets_.push_back(std::move(f));
   }
   // Occlusion volumes and picture boxes of the pieces, in parallel.
+  deferred_once_ = std::make_unique<std::once_flag[]>(pieces_.size());
   parallel_blocks(pieces_.size(), threads_, 16, [&](size_t begin, size_t end) {
     std::vector<Facing> piece_facing;
     for (size_t i = begin; i != end; ++i) {
@@ -285,11 +286,11 @@ void Roberts::prepare_bodies() {
       const HlrBody& bd = data_[static_cast<size_t>(p.body)];
       if (!p.piece) {
         // A triangle turned to the viewpoint (always, unless its face is planar only within a
-        // tolerance): the volume from its corners; else the two-sided triangle as a Body.
+        // tolerance): the volume from its corners, built on first use; else the two-sided
+        // triangle as a Body.
         const auto& c = p.triangle;
-        const ExactPlane plane = triangle_plane(c);
-        if (facing(plane, view_) == Facing::Front)
-          p.volume = triangle_occlusion_volume(c, plane, view_);
+        if (facing(triangle_plane(c), view_) == Facing::Front)
+          p.deferred = true;
         else
           p.piece = Body::two_sided_polygon({c[0], c[1], c[2]});
       }
@@ -323,6 +324,11 @@ void Roberts::build_volume(const HlrPiece& p) const {
 
 const OcclusionVolume& Roberts::volume(const HlrPiece& p) const {
   if (p.large) std::call_once(p.large->volume_once, [&] { build_volume(p); });
+  if (p.deferred)
+    std::call_once(deferred_once_[static_cast<size_t>(&p - pieces_.data())], [&] {
+      p.volume = triangle_occlusion_volume(p.triangle, triangle_plane(p.triangle), view_);
+      p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
+    });
   return p.volume;
 }
 
@@ -664,7 +670,7 @@ void Roberts::visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch
   for (int id : ids) {
     const HlrPiece& o = pieces_[static_cast<size_t>(id)];
     if (!keep(o)) continue;
-    if (!o.large && !o.volume.clipper) continue;
+    if (!o.large && !volume(o).clipper) continue;
     ++out.stats.occlusion_tests;
     const std::optional<SegmentPart> part = hidden_part(o, p1, p2, scratch);
     if (!part) continue;

@@ -132,6 +132,10 @@ struct HlrPiece {
   // only if an exact path asks for it.
   mutable OcclusionVolume volume;
   mutable std::unique_ptr<LargeConvex> large;
+  // A triangle turned to the viewpoint whose volume is built on first use (Roberts::volume):
+  // a line drawing of a million-face mesh clips against few of its half million front
+  // triangles (sharp edges and outlines only), and building them all cost about 400 MB.
+  bool deferred = false;
   std::vector<ExactPlane> faces;  // for the brute-force path
   // Pieces of a non-convex body: the canonical planes (Decomposition::piece_planes) of the
   // exact piece's faces turned to the viewpoint, decided exactly on their support triples;
@@ -266,6 +270,8 @@ class Roberts {
   const OcclusionVolume& volume(const HlrPiece& p) const;
   // Builds p's volume (a convex body's own piece: from the body's facings).
   void build_volume(const HlrPiece& p) const;
+  // One flag per piece, for the deferred triangles' volumes (HlrPiece::deferred).
+  std::unique_ptr<std::once_flag[]> deferred_once_;
   // A large piece's silhouette and front-face grid, built on first use (thread-safe).
   const LargeConvex& silhouette_of(const HlrPiece& p) const;
   // The part of segment p1p2 hidden by piece p (open), or nullopt: through the silhouette for
