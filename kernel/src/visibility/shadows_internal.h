@@ -207,10 +207,33 @@ class CasterIndex {
       const double fr = radius + margin_;
       // The pieces whose cones of directions may meet the region's, from the angular grid,
       // in ascending order (the order of a plain scan: results do not depend on the index).
+      // Each candidate is tested as it is found and only the survivors are sorted (on a
+      // million-face mesh the sort of every candidate was 5 % of `render`).
+      const auto keep = [&](int p) {
+        const ShadowPiece& piece = pieces_[static_cast<size_t>(p)];
+        const Vec3 pc = piece.centre - view_.point;
+        const double pd = pc.norm();
+        const double pr = piece.radius + margin_;
+        // Depth: the face's farthest point must lie beyond the piece's nearest.
+        if (fd + fr < pd - pr) return false;
+        if (pd > pr && fd > fr) {
+          // The cones (half-angles α, β: sin α = pr / pd, sin β = fr / fd) are apart when the
+          // angle between their axes exceeds α + β + 1e-9: its cosine below cos(α + β + 1e-9)
+          // ≈ cos(α + β) − 1e-9 sin(α + β), less a rounding slack (no asin or acos: this runs
+          // for every candidate of every face).
+          const double sa = std::min(1.0, pr / pd), sb = std::min(1.0, fr / fd);
+          const double ca = std::sqrt(1 - sa * sa), cb = std::sqrt(1 - sb * sb);
+          const double cos_sum = ca * cb - sa * sb, sin_sum = sa * cb + ca * sb;
+          if (pc.dot(fc) / (pd * fd) < cos_sum - 1e-9 * sin_sum - 1e-14) return false;
+        }
+        return true;
+      };
       thread_local std::vector<int> found;
       thread_local std::vector<unsigned> seen;
       thread_local unsigned visit = 0;
-      found.assign(always_.begin(), always_.end());
+      found.clear();
+      for (int p : always_)
+        if (keep(p)) found.push_back(p);
       if (seen.size() < pieces_.size()) seen.assign(pieces_.size(), 0);
       if (++visit == 0) {
         std::fill(seen.begin(), seen.end(), 0);
@@ -221,29 +244,11 @@ class CasterIndex {
           const int p = items_[static_cast<size_t>(q)];
           if (seen[static_cast<size_t>(p)] == visit) continue;
           seen[static_cast<size_t>(p)] = visit;
-          found.push_back(p);
+          if (keep(p)) found.push_back(p);
         }
       });
       std::sort(found.begin(), found.end());
-      for (int p : found) {
-        const ShadowPiece& piece = pieces_[static_cast<size_t>(p)];
-        const Vec3 pc = piece.centre - view_.point;
-        const double pd = pc.norm();
-        const double pr = piece.radius + margin_;
-        // Depth: the face's farthest point must lie beyond the piece's nearest.
-        if (fd + fr < pd - pr) continue;
-        if (pd > pr && fd > fr) {
-          // The cones (half-angles α, β: sin α = pr / pd, sin β = fr / fd) are apart when the
-          // angle between their axes exceeds α + β + 1e-9: its cosine below cos(α + β + 1e-9)
-          // ≈ cos(α + β) − 1e-9 sin(α + β), less a rounding slack (no asin or acos: this runs
-          // for every candidate of every face).
-          const double sa = std::min(1.0, pr / pd), sb = std::min(1.0, fr / fd);
-          const double ca = std::sqrt(1 - sa * sa), cb = std::sqrt(1 - sb * sb);
-          const double cos_sum = ca * cb - sa * sb, sin_sum = sa * cb + ca * sb;
-          if (pc.dot(fc) / (pd * fd) < cos_sum - 1e-9 * sin_sum - 1e-14) continue;
-        }
-        f(p);
-      }
+      for (int p : found) f(p);
       return;
     }
     if (ids_.empty()) return;
