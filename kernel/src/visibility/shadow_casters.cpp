@@ -46,19 +46,25 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolu
     }
     // The cones in parallel (asin, acos, atan2 each: half a million triangles of a mesh took
     // 0.2 s on one thread), then split into wide and small in piece order.
-    std::vector<Cone> cones(pieces.size());
+    std::vector<Cone> cones(active.size());
+    tests_.resize(active.size());
     parallel_blocks(active.size(), threads, 4096, [&](size_t begin, size_t end) {
       for (size_t i = begin; i != end; ++i) {
         const size_t p = static_cast<size_t>(active[i]);
         const Vec3 c = pieces[p].centre - view.point;
-        cones[p] = cone_of(c, c.norm(), pieces[p].radius + margin_);
+        const double d = c.norm(), r = pieces[p].radius + margin_;
+        cones[i] = cone_of(c, d, r);
+        const double sa = std::min(1.0, r / d);
+        tests_[i] = {c, d, r, sa, std::sqrt(1 - sa * sa)};
       }
     });
+    ids_ = active;
     std::vector<int> small;
     const double pi = std::numbers::pi;
     double t_lo = pi, t_hi = 0, p_lo = pi, p_hi = -pi;
-    for (int p : active) {
-      const Cone& k = cones[static_cast<size_t>(p)];
+    for (size_t i = 0; i < active.size(); ++i) {
+      const int p = static_cast<int>(i);  // the slot
+      const Cone& k = cones[i];
       if (k.all_phi || k.t1 - k.t0 > 2 * kWideCone || k.p1 - k.p0 > 2 * kWideCone || k.p0 < -pi || k.p1 > pi) {
         always_.push_back(p);
         continue;

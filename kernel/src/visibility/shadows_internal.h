@@ -205,26 +205,22 @@ class CasterIndex {
       const Vec3 fc = centre - view_.point;
       const double fd = fc.norm();
       const double fr = radius + margin_;
+      const double sb = std::min(1.0, fr / fd), cb = std::sqrt(1 - sb * sb);
       // The pieces whose cones of directions may meet the region's, from the angular grid,
       // in ascending order (the order of a plain scan: results do not depend on the index).
       // Each candidate is tested as it is found and only the survivors are sorted (on a
       // million-face mesh the sort of every candidate was 5 % of `render`).
-      const auto keep = [&](int p) {
-        const ShadowPiece& piece = pieces_[static_cast<size_t>(p)];
-        const Vec3 pc = piece.centre - view_.point;
-        const double pd = pc.norm();
-        const double pr = piece.radius + margin_;
+      const auto keep = [&](int slot) {
+        const ConeTest& t = tests_[static_cast<size_t>(slot)];
         // Depth: the face's farthest point must lie beyond the piece's nearest.
-        if (fd + fr < pd - pr) return false;
-        if (pd > pr && fd > fr) {
+        if (fd + fr < t.pd - t.pr) return false;
+        if (t.pd > t.pr && fd > fr) {
           // The cones (half-angles α, β: sin α = pr / pd, sin β = fr / fd) are apart when the
           // angle between their axes exceeds α + β + 1e-9: its cosine below cos(α + β + 1e-9)
           // ≈ cos(α + β) − 1e-9 sin(α + β), less a rounding slack (no asin or acos: this runs
-          // for every candidate of every face).
-          const double sa = std::min(1.0, pr / pd), sb = std::min(1.0, fr / fd);
-          const double ca = std::sqrt(1 - sa * sa), cb = std::sqrt(1 - sb * sb);
-          const double cos_sum = ca * cb - sa * sb, sin_sum = sa * cb + ca * sb;
-          if (pc.dot(fc) / (pd * fd) < cos_sum - 1e-9 * sin_sum - 1e-14) return false;
+          // for every candidate of every face; the piece's half is computed once, ConeTest).
+          const double cos_sum = t.ca * cb - t.sa * sb, sin_sum = t.sa * cb + t.ca * sb;
+          if (t.pc.dot(fc) / (t.pd * fd) < cos_sum - 1e-9 * sin_sum - 1e-14) return false;
         }
         return true;
       };
@@ -232,23 +228,24 @@ class CasterIndex {
       thread_local std::vector<unsigned> seen;
       thread_local unsigned visit = 0;
       found.clear();
-      for (int p : always_)
-        if (keep(p)) found.push_back(p);
-      if (seen.size() < pieces_.size()) seen.assign(pieces_.size(), 0);
+      for (int slot : always_)
+        if (keep(slot)) found.push_back(slot);
+      if (seen.size() < tests_.size()) seen.assign(tests_.size(), 0);
       if (++visit == 0) {
         std::fill(seen.begin(), seen.end(), 0);
         visit = 1;
       }
       for_cone(cone_of(fc, fd, fr), [&](size_t c) {
         for (int q = cells_[c]; q < cells_[c + 1]; ++q) {
-          const int p = items_[static_cast<size_t>(q)];
-          if (seen[static_cast<size_t>(p)] == visit) continue;
-          seen[static_cast<size_t>(p)] = visit;
-          if (keep(p)) found.push_back(p);
+          const int slot = items_[static_cast<size_t>(q)];
+          if (seen[static_cast<size_t>(slot)] == visit) continue;
+          seen[static_cast<size_t>(slot)] = visit;
+          if (keep(slot)) found.push_back(slot);
         }
       });
+      // Slots follow piece order: sorted slots are pieces in ascending order.
       std::sort(found.begin(), found.end());
-      for (int p : found) f(p);
+      for (int slot : found) f(ids_[static_cast<size_t>(slot)]);
       return;
     }
     if (ids_.empty()) return;
@@ -350,6 +347,16 @@ class CasterIndex {
   Vec3 ax_ = Vec3::UnitX(), ay_ = Vec3::UnitY(), az_ = Vec3::UnitZ();
   double t_lo_ = 0, t_scale_ = 1, p_lo_ = 0, p_scale_ = 1;
   int n_theta_ = 0, n_phi_ = 0;
+  // Finite viewpoint: the active pieces are slots 0, 1, … in piece order (ids_ maps a slot to
+  // its piece); always_ and items_ hold slots. Per slot, the piece's half of the cone test in
+  // candidates(), computed once: its centre from the viewpoint, distance, radius with the
+  // margin, and sin and cos of its cone's half-angle (the same doubles the test computed per
+  // candidate before, so the same verdicts).
+  struct ConeTest {
+    Vec3 pc;
+    double pd, pr, sa, ca;
+  };
+  std::vector<ConeTest> tests_;
   std::vector<int> always_;
 
   const std::vector<ShadowPiece>& pieces_;
