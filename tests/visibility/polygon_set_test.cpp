@@ -68,7 +68,13 @@ TEST(PolygonSet, RegionsGiveTheDifferenceAndCountsOfTheirPieces) {
     return out;
   };
   int snapped_pinches = 0;
-  for (int trial = 0; trial < 24; ++trial) {
+#ifdef HEDRA_SANITIZED
+  const int trials = 14;  // CGAL's exact references under ASan + UBSan: 20 s for 24 (13 is
+                          // the first trial with a pinched ring)
+#else
+  const int trials = 24;
+#endif
+  for (int trial = 0; trial < trials; ++trial) {
     const bool snap = trial % 2 == 1;
     const std::vector<Ring2> a = pieces(4 + 2 * trial, snap), b = pieces(3 + trial, snap),
                              c = pieces(3 + trial, snap);
