@@ -58,11 +58,11 @@ CasterIndex::CasterIndex(const std::vector<ShadowPiece>& pieces, const PieceVolu
         tests_[i] = {c, d, r, sa, std::sqrt(1 - sa * sa)};
       }
     });
-    ids_ = active;
+    ids_ = std::move(active);  // slot → piece
     std::vector<int> small;
     const double pi = std::numbers::pi;
     double t_lo = pi, t_hi = 0, p_lo = pi, p_hi = -pi;
-    for (size_t i = 0; i < active.size(); ++i) {
+    for (size_t i = 0; i < ids_.size(); ++i) {
       const int p = static_cast<int>(i);  // the slot
       const Cone& k = cones[i];
       if (k.all_phi || k.t1 - k.t0 > 2 * kWideCone || k.p1 - k.p0 > 2 * kWideCone || k.p0 < -pi || k.p1 > pi) {
