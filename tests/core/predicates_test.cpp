@@ -100,7 +100,7 @@ TEST(Predicates, SideOfPlaneAgreesWithRationals) {
   EXPECT_GT(zero, 0);  // some points exactly on their plane
 }
 
-// orient3d and orient_direction against exact rationals (GMP) on nearly coplanar points, where
+// orient3d, PlaneOrientation and orient_direction against exact rationals (GMP) on nearly coplanar points, where
 // the static filter's bound matters: corners of lat-long quadrilaterals on spheres (planar in
 // exact arithmetic, rounded to double), points rounded onto random planes, and exactly coplanar
 // points, moved by a few ulps or not, at scales from 1e-100 to 1e100 (2^-300 to 2^300). Many
@@ -164,6 +164,10 @@ TEST(Predicates, Orient3dAgreesWithRationalsOnNearlyCoplanarPoints) {
     // counter-clockwise a, b, c).
     const mpq_class det = exact_det(p[0], p[1], p[2], p[3], false);
     ASSERT_EQ(orient3d(p[0], p[1], p[2], p[3]), sign_of(sgn(det))) << "case " << i;
+    // PlaneOrientation: the same sign through its own filter (the determinant expanded along
+    // d's row), for the plane and for the plane with its corners rotated.
+    ASSERT_EQ(PlaneOrientation(p[0], p[1], p[2])(p[3]), sign_of(sgn(det))) << "case " << i;
+    ASSERT_EQ(PlaneOrientation(p[1], p[2], p[0])(p[3]), sign_of(sgn(det))) << "case " << i;
     // orient_direction(a, b, c, d): the same with d a direction, not a point.
     ASSERT_EQ(orient_direction(p[0], p[1], p[2], p[3]), sign_of(sgn(exact_det(p[0], p[1], p[2], p[3], true))))
         << "case " << i;

@@ -93,6 +93,31 @@ Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return det3_exact(a, b, c, d, true);
 }
 
+PlaneOrientation::PlaneOrientation(const Vec3& a, const Vec3& b, const Vec3& c) : a_(a), b_(b), c_(c) {
+  const Vec3 u = b - a, v = c - a;
+  cross_ = Vec3(u.y() * v.z() - u.z() * v.y(), u.z() * v.x() - u.x() * v.z(), u.x() * v.y() - u.y() * v.x());
+  absolute_ = Vec3(std::abs(u.y() * v.z()) + std::abs(u.z() * v.y()), std::abs(u.z() * v.x()) + std::abs(u.x() * v.z()),
+                   std::abs(u.x() * v.y()) + std::abs(u.y() * v.x()));
+}
+
+// det[u, v, w] = w·(u × v): det3_filter's evaluation with the rows in the order (w, u, v), the
+// same structure (each rounded difference times a 2 × 2 minor of rounded differences, summed
+// left to right), so the same bound errboundA · permanent holds.
+Sign PlaneOrientation::operator()(const Vec3& x) const {
+  constexpr double kHalfUlp = 0.5 * std::numeric_limits<double>::epsilon();
+  constexpr double kErrboundA = (7.0 + 56.0 * kHalfUlp) * kHalfUlp;
+  const Vec3 w = x - a_;
+  const double det = w.x() * cross_.x() + w.y() * cross_.y() + w.z() * cross_.z();
+  const double permanent =
+      std::abs(w.x()) * absolute_.x() + std::abs(w.y()) * absolute_.y() + std::abs(w.z()) * absolute_.z();
+  if (permanent > 1e-250 && permanent < 1e250) {
+    const double bound = kErrboundA * permanent;
+    if (det > bound) return Sign::Positive;
+    if (det < -bound) return Sign::Negative;
+  }
+  return orient3d(a_, b_, c_, x);
+}
+
 Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   if (const auto s = det3_filter(b - a, c - a, d)) return *s;
   return det3_exact(a, b, c, d, false);

@@ -28,6 +28,20 @@ inline Sign operator-(Sign s) { return static_cast<Sign>(-static_cast<int>(s)); 
 /// (hedra's convention), Positive means "outside the face plane". Cost O(1).
 Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+/// orient3d(a, b, c, x) for one plane (a, b, c) and many points x: the cross product
+/// (b − a) × (c − a) and the sums of absolute products for Shewchuk's static bound are computed
+/// once, so that the filtered test of a point is three products and a bound (the determinant
+/// expanded along x's row, the same bound as orient3d's filter). When that cannot decide, the
+/// sign is orient3d's, so the result is always orient3d(a, b, c, x). Cost O(1) per point.
+class PlaneOrientation {
+ public:
+  PlaneOrientation(const Vec3& a, const Vec3& b, const Vec3& c);
+  Sign operator()(const Vec3& x) const;
+
+ private:
+  Vec3 a_, b_, c_, cross_, absolute_;
+};
+
 /// orient3d with the direction d in place of d − a: the exact sign of det[b − a, c − a, d]
 /// (which side of plane (a, b, c) moving along d goes to). Cost O(1).
 Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
