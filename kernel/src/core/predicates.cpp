@@ -48,20 +48,25 @@ Vec2 drop(const Vec3& p, int axis) {
 // permanent, then all went to CGAL's interval and exact stages. nullopt when it cannot decide,
 // or when the permanent is so small or large that underflow or overflow could void the bound
 // (above 1e-250, underflow adds at most a few 2^-1074 to the sum, far below the bound).
-std::optional<Sign> det3_filter(const Vec3& u, const Vec3& v, const Vec3& w) {
+std::optional<Sign> det3_sign_within_bound(double det, double permanent) {
   constexpr double kHalfUlp = 0.5 * std::numeric_limits<double>::epsilon();  // 2^-53
   constexpr double kErrboundA = (7.0 + 56.0 * kHalfUlp) * kHalfUlp;
+  if (!(permanent > 1e-250) || !(permanent < 1e250)) return std::nullopt;
+  const double bound = kErrboundA * permanent;
+  if (det > bound) return Sign::Positive;
+  if (det < -bound) return Sign::Negative;
+  return std::nullopt;
+}
+
+// det[u, v, w] evaluated in that order, and its sign where the bound above decides.
+std::optional<Sign> det3_filter(const Vec3& u, const Vec3& v, const Vec3& w) {
   const double m0 = v.y() * w.z() - v.z() * w.y(), m1 = v.z() * w.x() - v.x() * w.z(),
                m2 = v.x() * w.y() - v.y() * w.x();
   const double det = u.x() * m0 + u.y() * m1 + u.z() * m2;
   const double permanent = std::abs(u.x()) * (std::abs(v.y() * w.z()) + std::abs(v.z() * w.y())) +
                            std::abs(u.y()) * (std::abs(v.z() * w.x()) + std::abs(v.x() * w.z())) +
                            std::abs(u.z()) * (std::abs(v.x() * w.y()) + std::abs(v.y() * w.x()));
-  if (!(permanent > 1e-250) || !(permanent < 1e250)) return std::nullopt;
-  const double bound = kErrboundA * permanent;
-  if (det > bound) return Sign::Positive;
-  if (det < -bound) return Sign::Negative;
-  return std::nullopt;
+  return det3_sign_within_bound(det, permanent);
 }
 
 // The exact stages of orient3d (d a point) and orient_direction (d a direction): the sign of
@@ -104,17 +109,11 @@ PlaneOrientation::PlaneOrientation(const Vec3& a, const Vec3& b, const Vec3& c) 
 // same structure (each rounded difference times a 2 × 2 minor of rounded differences, summed
 // left to right), so the same bound errboundA · permanent holds.
 Sign PlaneOrientation::operator()(const Vec3& x) const {
-  constexpr double kHalfUlp = 0.5 * std::numeric_limits<double>::epsilon();
-  constexpr double kErrboundA = (7.0 + 56.0 * kHalfUlp) * kHalfUlp;
   const Vec3 w = x - a_;
   const double det = w.x() * cross_.x() + w.y() * cross_.y() + w.z() * cross_.z();
   const double permanent =
       std::abs(w.x()) * absolute_.x() + std::abs(w.y()) * absolute_.y() + std::abs(w.z()) * absolute_.z();
-  if (permanent > 1e-250 && permanent < 1e250) {
-    const double bound = kErrboundA * permanent;
-    if (det > bound) return Sign::Positive;
-    if (det < -bound) return Sign::Negative;
-  }
+  if (const auto s = det3_sign_within_bound(det, permanent)) return *s;
   return orient3d(a_, b_, c_, x);
 }
 

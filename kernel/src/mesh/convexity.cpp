@@ -344,7 +344,6 @@ class Certificate {
       // the ray on its boundary is degenerate.
       auto crossing = [&](int ia, int ib, int ic, Sign facing) {
         if (facing == Sign::Zero) return 0;  // a fan triangle over collinear vertices
-        if (away(ia, ib, ic)) return 0;
         const Sign hit = -facing;            // the sign of det[a − o, b − o, r] inside
         bool zero = false;
         for (const auto& [x, y] : {std::pair{ia, ib}, std::pair{ib, ic}, std::pair{ic, ia}}) {
@@ -364,7 +363,7 @@ class Certificate {
           return;
         }
         if (piece.triangle) {
-          part.crossings += crossing(t[0], t[1], t[2], inside);
+          if (!away(t[0], t[1], t[2])) part.crossings += crossing(t[0], t[1], t[2], inside);
           continue;
         }
         // A planar face: the signed crossings of its loops' fans, its winding number about the
