@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <stdexcept>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
@@ -148,6 +149,17 @@ void write_shadows_json(const std::function<void(std::string_view)>& write, cons
                         const std::string& scene_name, const ShadowResult& result,
                         bool visible_parts, double ms, const SunStudyOptions* study_options,
                         const SunStudy* study) {
+  internal::write_shadows_json_in_waves(write, scene, scene_name, result, visible_parts, ms,
+                                        1024, 64, study_options, study);
+}
+
+void internal::write_shadows_json_in_waves(const std::function<void(std::string_view)>& write,
+                                           const Scene& scene, const std::string& scene_name,
+                                           const ShadowResult& result, bool visible_parts,
+                                           double ms, size_t block, size_t wave,
+                                           const SunStudyOptions* study_options,
+                                           const SunStudy* study) {
+  if (block == 0 || wave == 0) throw std::invalid_argument("write_shadows_json: empty block or wave");
   json j;
   j["ms"] = ms;
   j["scene"] = scene_name;
@@ -177,7 +189,7 @@ void write_shadows_json(const std::function<void(std::string_view)>& write, cons
     j["sun_study"] = sun_study_object(scene, *study_options, *study);
   const std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
 
-  constexpr size_t kBlock = 1024, kWave = 64;  // faces per block, blocks per wave
+  const size_t kBlock = block, kWave = wave;  // faces per block, blocks per wave
   std::vector<std::string> blocks(kWave);
   const auto write_faces = [&](const LightShadows& ls) {
     const size_t n = ls.faces.size();

@@ -255,8 +255,7 @@ T exact_plane_value(const ExactPlane& f, const Vec3& p) {
 ExactPlane ExactPlane::through(const Vec3& a, const Vec3& b, const Vec3& c) {
   if (!a.allFinite() || !b.allFinite() || !c.allFinite())
     throw InvalidInput("plane through a point with a coordinate that is not finite");
-  if (collinear(a, b, c)) throw InvalidInput("plane through three collinear points");
-  return build(a, b, c, false);
+  return build(a, b, c, false);  // throws for collinear points
 }
 
 ExactPlane ExactPlane::through_direction(const Vec3& a, const Vec3& b, const Vec3& d) {
@@ -312,6 +311,11 @@ ExactPlane ExactPlane::build(const Vec3& a, const Vec3& b, const Vec3& c, bool d
   rad[3] = (rad[0] * std::abs(a.x()) + rad[1] * std::abs(a.y()) + rad[2] * std::abs(a.z()) +
             gamma_n(3) * (std::abs(t0) + std::abs(t1) + std::abs(t2)) + 3 * kTiny) *
            kGrow;
+  // Three points: collinear iff the exact normal is zero. A computed component above its
+  // bound proves it is not (almost always); only otherwise is the exact test asked.
+  if (!direction && std::abs(mid[0]) <= rad[0] && std::abs(mid[1]) <= rad[1] &&
+      std::abs(mid[2]) <= rad[2] && collinear(a, b, c))
+    throw InvalidInput("plane through three collinear points");
   // A sliver whose exact normal is below the rounding of its products can come out as n = 0:
   // scale by the radii then (the double form is 0 within its bound, so every sign is exact).
   const double largest = std::max({std::abs(mid[0]), std::abs(mid[1]), std::abs(mid[2])});

@@ -2,6 +2,7 @@
 // the Python module (python/), so both print the same text for the same result.
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -39,6 +40,18 @@ void write_shadows_json(const std::function<void(std::string_view)>& write, cons
                         bool visible_parts, double ms,
                         const SunStudyOptions* study_options = nullptr,
                         const SunStudy* study = nullptr);
+
+namespace internal {
+/// write_shadows_json with `block` faces per block and `wave` blocks dumped in parallel between
+/// writes (write_shadows_json: 1024 and 64), so that tests can cross many waves on a small
+/// scene. The same bytes for any block and wave. \throw std::invalid_argument for 0.
+void write_shadows_json_in_waves(const std::function<void(std::string_view)>& write,
+                                 const Scene& scene, const std::string& scene_name,
+                                 const ShadowResult& result, bool visible_parts, double ms,
+                                 size_t block, size_t wave,
+                                 const SunStudyOptions* study_options = nullptr,
+                                 const SunStudy* study = nullptr);
+}  // namespace internal
 
 /// The "sun_study" object of shadows_json alone: place, times, step, per step the sun and the
 /// lit fraction of every face, hours of sun per face, the optional grid. Cost O(output size).
