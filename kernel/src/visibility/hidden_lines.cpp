@@ -274,6 +274,28 @@ void Roberts::prepare_bodies() {
         const Sign s = view_.at_infinity ? model.side_along(c, -view_.direction) : model.side(c, view_.point);
         if (static_cast<int>(s) * sign > 0) piece.front_planes.push_back(c);
       }
+      // Each rounded face's canonical plane: the exact face whose normal its own matches
+      // (rounding turns a face's normal by about an ulp of the coordinates over the face's
+      // size), kept only when no other face of the piece comes close.
+      const Body& rounded = *piece.piece;
+      piece.face_canonical.assign(static_cast<size_t>(rounded.face_count()), -1);
+      for (int g = 0; g < rounded.face_count(); ++g) {
+        const Vec3 normal = rounded.plane(g).normal();  // unit, inner
+        int best = -1;
+        double best_dot = -2, second = -2;
+        for (const auto& [c, sign] : per_body[b].planes[k]) {
+          // The piece lies on c's negative side when sign is +1: its inner normal is −sign·n_c.
+          const double dot = -sign * normal.dot(model.approx[static_cast<size_t>(c)].normal());
+          if (dot > best_dot) {
+            second = best_dot;
+            best_dot = dot;
+            best = c;
+          } else {
+            second = std::max(second, dot);
+          }
+        }
+        if (best_dot >= 1 - 1e-10 && second < 1 - 1e-8) piece.face_canonical[static_cast<size_t>(g)] = best;
+      }
     }
     for (HlrFacet& f : per_body[b].facets) facets_.push_back(std::move(f));
   }
@@ -638,9 +660,72 @@ bool Roberts::end_on(const Vec3& a, const Vec3& b) const {
   return parallel_to(a, b, view_.direction);
 }
 
+void Roberts::end_snapped(const HlrPiece& p, const EndVertices& ends, const Vec3& p1,
+                          const Vec3& p2, std::optional<SegmentPart>& part) const {
+  if (!part || !p.exact || p.large || p.body != ends.body || p.face_canonical.empty()) return;
+  const OcclusionVolume& v = volume(p);
+  if (!v.clipper) return;
+  const std::vector<ExactPlane>& planes = v.clipper->planes();
+  const InputPlanes& model = data_[static_cast<size_t>(p.body)].input_planes;
+  const Body& rounded = *p.piece;
+  const auto& corner = rounded.vertices();
+  const auto index = [&](const ExactPlane* plane) {
+    return plane == nullptr ? std::ptrdiff_t{-1} : plane - planes.data();
+  };
+  // Whether the exact counterpart of volume plane i passes through end vertex w (at q) in the
+  // decomposition's model: a front face's plane is its canonical plane; a silhouette edge's
+  // plane (through the edge's rounded corners, its two first points) is the plane through the
+  // line where the canonical planes of the edge's two faces meet and the viewpoint, so it
+  // holds w when both do.
+  const auto through = [&](std::ptrdiff_t i, int w, const Vec3& q) {
+    if (i < 0 || w < 0) return false;
+    const size_t fronts = v.front_faces.size();
+    if (static_cast<size_t>(i) < fronts) {
+      const int c = p.face_canonical[static_cast<size_t>(v.front_faces[static_cast<size_t>(i)])];
+      return c >= 0 && model.on(c, w, q);
+    }
+    const ExactPlane& f = planes[static_cast<size_t>(i)];
+    if (!f.by_points()) return false;
+    const Vec3 &a = f.points()[0], &b = f.points()[1];
+    for (const Edge& e : rounded.edges()) {
+      const Vec3 &x = corner[static_cast<size_t>(e.v0)], &y = corner[static_cast<size_t>(e.v1)];
+      if (!((x == a && y == b) || (x == b && y == a))) continue;
+      const int c1 = p.face_canonical[static_cast<size_t>(e.left_face)];
+      const int c2 = p.face_canonical[static_cast<size_t>(e.right_face)];
+      return c1 >= 0 && c2 >= 0 && model.on(c1, w, q) && model.on(c2, w, q);
+    }
+    return false;
+  };
+  // Every other plane holds on the part (lo, hi) strictly; where it also holds at the end
+  // vertex (exactly on its rounded plane, or through the vertex in the model), it holds
+  // strictly between the part's end and the vertex (an affine function), so the exact plane
+  // through the vertex is the one that ends the part there.
+  const auto others_hold = [&](std::ptrdiff_t skip, int w, const Vec3& q) {
+    for (size_t i = 0; i < planes.size(); ++i)
+      if (static_cast<std::ptrdiff_t>(i) != skip && side_of_plane(planes[i], q) == Sign::Negative &&
+          !through(static_cast<std::ptrdiff_t>(i), w, q))
+        return false;
+    return true;
+  };
+  constexpr double kNear = 1e-6;  // rounding moves an end by ulps; never further than this
+  SegmentPart& h = *part;
+  // An end entering at the far vertex, or leaving at the near one: the exact part is empty.
+  if ((h.lo.plane != nullptr && 1 - h.lo.t <= kNear && through(index(h.lo.plane), ends.v1, p2)) ||
+      (h.hi.plane != nullptr && h.hi.t <= kNear && through(index(h.hi.plane), ends.v0, p1))) {
+    part.reset();
+    return;
+  }
+  if (h.hi.plane != nullptr && 1 - h.hi.t <= kNear && through(index(h.hi.plane), ends.v1, p2) &&
+      others_hold(index(h.hi.plane), ends.v1, p2))
+    h.hi = SegmentEnd{1, 0, nullptr};
+  if (h.lo.plane != nullptr && h.lo.t <= kNear && through(index(h.lo.plane), ends.v0, p1) &&
+      others_hold(index(h.lo.plane), ends.v0, p1))
+    h.lo = SegmentEnd{0, 0, nullptr};
+}
+
 template <class Keep>
 void Roberts::visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch& scratch,
-                            EdgeOutput& out) const {
+                            EdgeOutput& out, const EndVertices& ends) const {
   const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
   std::vector<int>& ids = scratch.ids;
   std::vector<SegmentPart>& parts = scratch.parts;
@@ -672,7 +757,8 @@ void Roberts::visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch
     if (!keep(o)) continue;
     if (!o.large && !volume(o).clipper) continue;
     ++out.stats.occlusion_tests;
-    const std::optional<SegmentPart> part = hidden_part(o, p1, p2, scratch);
+    std::optional<SegmentPart> part = hidden_part(o, p1, p2, scratch);
+    if (ends.body >= 0 && o.exact) end_snapped(o, ends, p1, p2, part);
     if (!part) continue;
     parts.push_back(*part);
     if (!part->lo.plane && !part->hi.plane) break;  // hidden whole
@@ -740,7 +826,7 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
       if (o.face >= 0) return o.face != edge.left_face && o.face != edge.right_face;
       return !edge_incident(o, edge.v0, edge.v1, edge.left_face, edge.right_face);
     };
-    visible_parts(p1, p2, keep, scratch, out);
+    visible_parts(p1, p2, keep, scratch, out, EndVertices{b, edge.v0, edge.v1});
     const std::vector<TInterval>& visible = scratch.result;
     for (const TInterval& t : visible)
       add_segment(smooth ? out.classes : out.visible, point_at(p1, p2, t.first),

@@ -142,6 +142,10 @@ struct HlrPiece {
   // `exact` false when the decomposition gave none (then the rounded tests decide).
   std::vector<int> front_planes;
   bool exact = false;
+  // Per face of the rounded piece: the canonical plane of the exact piece's face it rounds
+  // (the unambiguous match of their normals), or −1 (a face of the convex-hull fallback, a
+  // sliver whose rounded normal is off). Read by end_snapped().
+  std::vector<int> face_canonical;
   // A triangle of a face of a body that occludes by its faces (Occluders::Faces): that face.
   int face = -1;
   mutable detail::PieceOccluder occluder;  // occluder.volume set with `volume`
@@ -317,11 +321,29 @@ class Roberts {
 
   void edges_of(int b, Scratch& scratch, EdgeOutput& out) const;
 
+  // The end vertices of a segment that is an edge (v0, v1) of body `body`; -1 when it is not
+  // (an outline segment).
+  struct EndVertices {
+    int body = -1, v0 = -1, v1 = -1;
+  };
+
   // Stage 2 for one segment of body b: the visible parts (t intervals) of p1p2 among the
   // candidate occluders that `keep` accepts. Cost O(k) clips for k candidates.
   template <class Keep>
   void visible_parts(const Vec3& p1, const Vec3& p2, Keep&& keep, Scratch& scratch,
-                     EdgeOutput& out) const;
+                     EdgeOutput& out, const EndVertices& ends = {}) const;
+
+  // The part of edge p1p2 that piece p of the edge's own body hides, with an end set by the
+  // rounded plane of a front face of p moved to the edge's end vertex where the decomposition's
+  // model puts that vertex on the exact face's canonical plane (InputPlanes::on): the exact
+  // piece's face passes through the vertex, so the hidden part reaches it (an end `hi` at
+  // vertex v1, `lo` at v0), or, on the other side, is empty. Rotated coordinates put the
+  // rounded plane an ulp off the vertex, which left visible slivers of 1e-15 … 1e-13 at the
+  // ends of hidden edges. Only when every other plane of p's volume holds strictly at that
+  // vertex (so the exact face's plane is the one that bounds the part there) and the rounded
+  // end lies within 1e-6 of the vertex's parameter. Cost O(planes) for the ends it moves.
+  void end_snapped(const HlrPiece& p, const EndVertices& ends, const Vec3& p1, const Vec3& p2,
+                   std::optional<SegmentPart>& part) const;
 
   // The outline of body b (when it has smooth parts), each segment clipped like an edge.
   void outline_of(int b, Scratch& scratch, EdgeOutput& out) const;
