@@ -10,6 +10,7 @@
 #include "hedra/core/tolerance.h"
 #include "hedra/decompose/decompose.h"
 #include "hedra/mesh/convexity.h"
+#include "visibility/model_incidence.h"
 #include "visibility/roberts_internal.h"
 
 namespace hedra::internal {
@@ -274,28 +275,8 @@ void Roberts::prepare_bodies() {
         const Sign s = view_.at_infinity ? model.side_along(c, -view_.direction) : model.side(c, view_.point);
         if (static_cast<int>(s) * sign > 0) piece.front_planes.push_back(c);
       }
-      // Each rounded face's canonical plane: the exact face whose normal its own matches
-      // (rounding turns a face's normal by about an ulp of the coordinates over the face's
-      // size), kept only when no other face of the piece comes close.
-      const Body& rounded = *piece.piece;
-      piece.face_canonical.assign(static_cast<size_t>(rounded.face_count()), -1);
-      for (int g = 0; g < rounded.face_count(); ++g) {
-        const Vec3 normal = rounded.plane(g).normal();  // unit, inner
-        int best = -1;
-        double best_dot = -2, second = -2;
-        for (const auto& [c, sign] : per_body[b].planes[k]) {
-          // The piece lies on c's negative side when sign is +1: its inner normal is −sign·n_c.
-          const double dot = -sign * normal.dot(model.approx[static_cast<size_t>(c)].normal());
-          if (dot > best_dot) {
-            second = best_dot;
-            best_dot = dot;
-            best = c;
-          } else {
-            second = std::max(second, dot);
-          }
-        }
-        if (best_dot >= 1 - 1e-10 && second < 1 - 1e-8) piece.face_canonical[static_cast<size_t>(g)] = best;
-      }
+      // Each rounded face's canonical plane, for the ends of hidden parts (end_snapped).
+      piece.face_canonical = internal::rounded_face_planes(*piece.piece, per_body[b].planes[k], model);
     }
     for (HlrFacet& f : per_body[b].facets) facets_.push_back(std::move(f));
   }
@@ -667,34 +648,13 @@ void Roberts::end_snapped(const HlrPiece& p, const EndVertices& ends, const Vec3
   if (!v.clipper) return;
   const std::vector<ExactPlane>& planes = v.clipper->planes();
   const InputPlanes& model = data_[static_cast<size_t>(p.body)].input_planes;
-  const Body& rounded = *p.piece;
-  const auto& corner = rounded.vertices();
   const auto index = [&](const ExactPlane* plane) {
     return plane == nullptr ? std::ptrdiff_t{-1} : plane - planes.data();
   };
-  // Whether the exact counterpart of volume plane i passes through end vertex w (at q) in the
-  // decomposition's model: a front face's plane is its canonical plane; a silhouette edge's
-  // plane (through the edge's rounded corners, its two first points) is the plane through the
-  // line where the canonical planes of the edge's two faces meet and the viewpoint, so it
-  // holds w when both do.
+  // Whether the exact counterpart of volume plane i passes through end vertex w (at q).
   const auto through = [&](std::ptrdiff_t i, int w, const Vec3& q) {
-    if (i < 0 || w < 0) return false;
-    const size_t fronts = v.front_faces.size();
-    if (static_cast<size_t>(i) < fronts) {
-      const int c = p.face_canonical[static_cast<size_t>(v.front_faces[static_cast<size_t>(i)])];
-      return c >= 0 && model.on(c, w, q);
-    }
-    const ExactPlane& f = planes[static_cast<size_t>(i)];
-    if (!f.by_points()) return false;
-    const Vec3 &a = f.points()[0], &b = f.points()[1];
-    for (const Edge& e : rounded.edges()) {
-      const Vec3 &x = corner[static_cast<size_t>(e.v0)], &y = corner[static_cast<size_t>(e.v1)];
-      if (!((x == a && y == b) || (x == b && y == a))) continue;
-      const int c1 = p.face_canonical[static_cast<size_t>(e.left_face)];
-      const int c2 = p.face_canonical[static_cast<size_t>(e.right_face)];
-      return c1 >= 0 && c2 >= 0 && model.on(c1, w, q) && model.on(c2, w, q);
-    }
-    return false;
+    return i >= 0 && internal::volume_plane_through(v, static_cast<size_t>(i), *p.piece, p.face_canonical,
+                                                    model, w, q);
   };
   // Every other plane holds on the part (lo, hi) strictly; where it also holds at the end
   // vertex (exactly on its rounded plane, or through the vertex in the model), it holds
