@@ -334,14 +334,16 @@ class Roberts {
                      EdgeOutput& out, const EndVertices& ends = {}) const;
 
   // The part of edge p1p2 that piece p of the edge's own body hides, with an end set by the
-  // rounded plane of a front face of p moved to the edge's end vertex where the decomposition's
-  // model puts that vertex on the exact face's canonical plane (InputPlanes::on): the exact
-  // piece's face passes through the vertex, so the hidden part reaches it (an end `hi` at
-  // vertex v1, `lo` at v0), or, on the other side, is empty. Rotated coordinates put the
-  // rounded plane an ulp off the vertex, which left visible slivers of 1e-15 … 1e-13 at the
-  // ends of hidden edges. Only when every other plane of p's volume holds strictly at that
-  // vertex (so the exact face's plane is the one that bounds the part there) and the rounded
-  // end lies within 1e-6 of the vertex's parameter. Cost O(planes) for the ends it moves.
+  // rounded plane of a front face or of a silhouette edge of p moved to the edge's end vertex
+  // where the decomposition's model puts that vertex on the plane's exact counterpart
+  // (internal::volume_plane_through): the exact plane passes through the vertex, so the hidden
+  // part reaches it (an end `hi` at vertex v1, `lo` at v0), or, on the other side, is empty.
+  // Rotated coordinates put the rounded plane an ulp off the vertex, which left visible slivers
+  // of 1e-16 … 1e-13 at the ends of hidden edges. An end is moved only when every other plane
+  // of p's volume holds at the vertex (on its rounded plane's inner side or boundary, or through
+  // the vertex in the model), so the exact plane is the one that bounds the part there, and
+  // when the rounded end lies within 1e-6 of the vertex's parameter. Cost O(planes) per end
+  // moved, O(E) more for each silhouette plane asked.
   void end_snapped(const HlrPiece& p, const EndVertices& ends, const Vec3& p1, const Vec3& p2,
                    std::optional<SegmentPart>& part) const;
 
