@@ -174,6 +174,13 @@ struct HlrBody {
   std::vector<std::vector<int>> vertex_faces;
 };
 
+// The end vertices of a segment that is an edge (v0, v1) of body `body` (Roberts::visible_parts);
+// -1 when it is not (an outline segment). At namespace scope: clang rejects a nested class's
+// default member initializers in a default argument of its enclosing class.
+struct EndVertices {
+  int body = -1, v0 = -1, v1 = -1;
+};
+
 class Roberts {
  public:
   Roberts(std::span<const Body> bodies, std::span<const std::string> names,
@@ -320,12 +327,6 @@ class Roberts {
   }
 
   void edges_of(int b, Scratch& scratch, EdgeOutput& out) const;
-
-  // The end vertices of a segment that is an edge (v0, v1) of body `body`; -1 when it is not
-  // (an outline segment).
-  struct EndVertices {
-    int body = -1, v0 = -1, v1 = -1;
-  };
 
   // Stage 2 for one segment of body b: the visible parts (t intervals) of p1p2 among the
   // candidate occluders that `keep` accepts. Cost O(k) clips for k candidates.
