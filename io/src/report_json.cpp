@@ -189,13 +189,13 @@ void internal::write_shadows_json_in_waves(const std::function<void(std::string_
     j["sun_study"] = sun_study_object(scene, *study_options, *study);
   const std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
 
-  const size_t kBlock = block, kWave = wave;  // faces per block, blocks per wave
-  std::vector<std::string> blocks(kWave);
+  // `block` faces per block, `wave` blocks per wave.
+  std::vector<std::string> blocks(wave);
   const auto write_faces = [&](const LightShadows& ls) {
     const size_t n = ls.faces.size();
-    for (size_t first = 0; first < n; first += kBlock * kWave) {
-      const size_t count = std::min(n - first, kBlock * kWave);
-      parallel_chunks(count, kBlock, [&](size_t c, size_t begin, size_t end) {
+    for (size_t first = 0; first < n; first += block * wave) {
+      const size_t count = std::min(n - first, block * wave);
+      parallel_chunks(count, block, [&](size_t c, size_t begin, size_t end) {
         std::string& out = blocks[c];
         out.clear();
         for (size_t i = first + begin; i != first + end; ++i) {
@@ -217,7 +217,7 @@ void internal::write_shadows_json_in_waves(const std::function<void(std::string_
           out += f.dump(-1, ' ', false, json::error_handler_t::replace);
         }
       });
-      for (size_t c = 0; c < (count + kBlock - 1) / kBlock; ++c) write(blocks[c]);
+      for (size_t c = 0; c < (count + block - 1) / block; ++c) write(blocks[c]);
     }
   };
   // The markers, in light order (the document lists the lights in order), become the arrays.

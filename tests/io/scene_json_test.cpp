@@ -315,8 +315,8 @@ TEST(ReportJson, ShadowFacesSplicedIntoTheDocumentAsOneDump) {
 // 1024 faces): a sphere of 70 688 faces crosses a wave's end, and the pieces must join into the
 // one DOM dump that shadows_json gives, every face once and in order.
 // The waves of write_shadows_json (1024 faces a block, 64 blocks a wave) on a scene of more
-// than one wave: about 20 s under the sanitizers, so Release only; the small waves below run the same
-// code in both builds.
+// than one wave: about 20 s under the sanitizers, so Release only; the small waves below run
+// the same code in both builds.
 #ifndef HEDRA_SANITIZED
 TEST(ReportJson, ShadowFacesWrittenInWavesJoinIntoTheOneDump) {
   const Scene scene = io::parse_scene("s.json", R"({"version": 1, "bodies": [

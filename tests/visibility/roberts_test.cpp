@@ -564,10 +564,9 @@ TEST(Roberts, BoxWithAHoleDrawsNoCutEdges) {
 
 // Found by looking at hidden lines of rotated non-convex bodies (an L prism and a plate with a
 // hole over a ground slab: 46 and 60 slivers in two sets of 40 random scenes): visible slivers
-// of 1e-15 … 1e-13 at the
-// ends of hidden edges, where the edge's end vertex lies on a face of a piece of its own body
-// (exactly, in the decomposition's model) but rotated coordinates put the rounded piece's plane
-// an ulp off it. The exact piece's face passes through the vertex, so the hidden part reaches
+// of 1e-15 … 1e-13 at the ends of hidden edges, where the edge's end vertex lies on a face of a
+// piece of its own body (exactly, in the decomposition's model) but rotated coordinates put the
+// rounded piece's plane an ulp off it. The exact piece's face passes through the vertex, so the hidden part reaches
 // it (Roberts::end_snapped). Reference: the ray-cast visible length over the bodies' convex
 // parts, rotated the same way.
 TEST(Roberts, RotatedNonConvexBodiesLeaveNoSliversAtEdgeEnds) {

@@ -1,6 +1,6 @@
 // Incidence of input vertices with the planes of a rounded decomposition piece's occlusion
 // volume, decided in the decomposition's exact model (docs/design.md, "Exact incidence of
-// pieces"): hidden lines (Roberts::end_snapped) and shadows (ShadowScene::Impl::hidden_pieces).
+// pieces"): hidden lines' ends of hidden parts (Roberts::end_snapped).
 #pragma once
 
 #include <utility>
