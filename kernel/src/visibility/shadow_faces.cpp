@@ -5,6 +5,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "hedra/core/tolerance.h"
 #include "visibility/shadows_internal.h"
 
 namespace hedra::internal {
@@ -197,12 +198,42 @@ bool to_convex_ring(const ShadowFace& fd, const Polygon3& poly, Ring2& ring) {
   return true;
 }
 
-ShadowPolygon lift_polygon(const ShadowFace& fd, const PolygonWithHoles2& p) {
+namespace {
+
+// A ring with its rounding debris removed (kShadowDebris): consecutive vertices within `snap`
+// (max-norm) of the last one kept are dropped, around the seam too. False when what is left is
+// not a ring (under 3 vertices) or thinner than snap (2 · |area| / perimeter). O(n).
+bool without_debris(const Ring2& ring, double snap, Ring2& out) {
+  out.clear();
+  out.reserve(ring.size());
+  const auto close = [snap](const Vec2& a, const Vec2& b) {
+    return (a - b).cwiseAbs().maxCoeff() <= snap;
+  };
+  for (const Vec2& v : ring)
+    if (out.empty() || !close(out.back(), v)) out.push_back(v);
+  while (out.size() > 1 && close(out.back(), out.front())) out.pop_back();
+  if (out.size() < 3) return false;
+  double perimeter = 0;
+  for (size_t k = 0; k < out.size(); ++k) perimeter += (out[(k + 1) % out.size()] - out[k]).norm();
+  return 2 * std::abs(ring_area(out)) > snap * perimeter;
+}
+
+}  // namespace
+
+void lift_polygon(const ShadowFace& fd, const PolygonWithHoles2& p, double scale,
+                  std::vector<ShadowPolygon>& out) {
+  const double snap = kShadowDebris * scale;
+  Ring2 ring;
+  if (!without_debris(p.outer, snap, ring)) return;
+  PolygonWithHoles2 kept;
+  kept.outer = ring;
+  for (const Ring2& h : p.holes)
+    if (without_debris(h, snap, ring)) kept.holes.push_back(ring);
   ShadowPolygon s;
-  s.outer = fd.lift(p.outer);
-  for (const Ring2& h : p.holes) s.holes.push_back(fd.lift(h));
-  s.area = p.area * fd.area_factor;
-  return s;
+  s.outer = fd.lift(kept.outer);
+  for (const Ring2& h : kept.holes) s.holes.push_back(fd.lift(h));
+  s.area = polygon_area(kept) * fd.area_factor;
+  out.push_back(std::move(s));
 }
 
 ShadowPolygon whole_face(const Body& body, int f) {

@@ -376,7 +376,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       if (rings.empty()) return;
       const UnionResult u = unite_convex(rings, options.polygons);
       fs.shadow_area = std::min(u.area * fd.area_factor, fs.area);
-      for (const PolygonWithHoles2& p : u.polygons) fs.polygons.push_back(lift_polygon(fd, p));
+      for (const PolygonWithHoles2& p : u.polygons) lift_polygon(fd, p, m.scale, fs.polygons);
       if (keep_pieces) {
         kept[l][i] = std::move(rings);
         kept_union[l][i] = u.polygons;
@@ -417,7 +417,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
             cgal_difference(region_of(kept_union[l][i], kept[l][i]), hidden_union);
         if (!v) v = cgal_difference(kept[l][i], hidden);
         for (const PolygonWithHoles2& p : v->polygons)
-          fs.visible_polygons.push_back(lift_polygon(fd, p));
+          lift_polygon(fd, p, m.scale, fs.visible_polygons);
         fs.visible_shadow_area = v->area * fd.area_factor;
       }
     });
@@ -452,7 +452,7 @@ ShadowResult ShadowScene::compute(const std::vector<Light>& lights,
       };
       auto lifted = [&](const UnionResult& u) {
         std::vector<ShadowPolygon> polys;
-        for (const PolygonWithHoles2& p : u.polygons) polys.push_back(lift_polygon(fd, p));
+        for (const PolygonWithHoles2& p : u.polygons) lift_polygon(fd, p, m.scale, polys);
         return polys;
       };
       if (partial.empty()) {

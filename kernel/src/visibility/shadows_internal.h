@@ -93,8 +93,11 @@ ShadowFace make_face(const Body& body, int f);
 /// positive area is left. Cost O(n²) worst case, O(n) in practice.
 bool to_convex_ring(const ShadowFace& fd, const Polygon3& poly, Ring2& ring);
 
-/// A 2D polygon of the face lifted onto the face's plane, with its 3D area. Cost O(n).
-ShadowPolygon lift_polygon(const ShadowFace& fd, const PolygonWithHoles2& p);
+/// A 2D polygon of the face lifted onto the face's plane, with its 3D area, rounding debris
+/// removed (kShadowDebris × scale, the scene's scale): appended to `out` unless its outer ring
+/// is debris. Cost O(n).
+void lift_polygon(const ShadowFace& fd, const PolygonWithHoles2& p, double scale,
+                  std::vector<ShadowPolygon>& out);
 
 /// The whole face as a shadow polygon (self shadow). Cost O(n).
 ShadowPolygon whole_face(const Body& body, int f);

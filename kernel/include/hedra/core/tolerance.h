@@ -48,6 +48,16 @@ constexpr double kCullingMargin = 1e-9;
 /// gives the rings.
 constexpr double kChainJoinTolerance = 1e-12;
 
+/// Rounding debris of shadow polygons (hedra/visibility/shadows.h): a face's shadow is the
+/// union (or difference) of convex pieces clipped by rounded planes, so two crossings that are
+/// one point in exact arithmetic can come out a few ulps apart, and where an occlusion volume
+/// only touches a face a ring of no width can come out with an area of 1e-16. On output,
+/// consecutive ring vertices closer than kShadowDebris × the scene's scale are one vertex, and a
+/// ring whose mean width (2 · area / perimeter) is below that is dropped (a polygon whose outer
+/// ring goes, with its holes). The areas (shadow_area, visible_shadow_area, counts) are computed
+/// before and do not depend on it; a polygon's own area moves by at most this × its perimeter.
+constexpr double kShadowDebris = 1e-12;
+
 /// Shadow rays of the raster renderer (hedra/render/ray_shadows.h): hits closer to the probe point
 /// than kShadowRayOffset × the scene's bounding-box diagonal are ignored. The probe point is a
 /// rounded construction on its face (a few ulps off the plane), and a ray leaving a facade's foot
