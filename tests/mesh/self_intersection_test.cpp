@@ -293,8 +293,13 @@ TEST(SelfIntersection, SoupTouchingAtEqualCoordinatesIsReported) {
 TEST(SelfIntersection, LargeSphereIsNearLinear) {
   // 20 000+ triangles: the box pass keeps the exact tests to neighbours (no timing asserted,
   // only that a large valid body passes).
+#ifdef HEDRA_SANITIZED
+  const Body s = sphere({0.3, -0.2, 0.1}, 2, 4e-4);  // 14 s under ASan + UBSan at 1e-4
+  ASSERT_GT(s.triangles().size(), 5000u);
+#else
   const Body s = sphere({0.3, -0.2, 0.1}, 2, 1e-4);
   ASSERT_GT(s.triangles().size(), 20000u);
+#endif
   EXPECT_FALSE(find_self_intersection(s).has_value());
 }
 
