@@ -200,18 +200,46 @@ bool to_convex_ring(const ShadowFace& fd, const Polygon3& poly, Ring2& ring) {
 
 namespace {
 
-// A ring with its rounding debris removed (kShadowDebris): consecutive vertices within `snap`
-// (max-norm) of the last one kept are dropped, around the seam too. False when what is left is
-// not a ring (under 3 vertices) or thinner than snap (2 · |area| / perimeter). O(n).
+// A ring with its rounding debris removed (kShadowDebris), on one pass with a stack and then
+// around the seam: a vertex within `snap` (max-norm) of the one before it is dropped, and so is
+// a spike, a vertex q where the ring goes out and comes back along the same line (both
+// neighbours on the same side of q, the nearer within snap of the line through q and the
+// farther: a slit of no width between two pieces whose edges are an ulp apart). False when
+// what is left is not a ring (under 3 vertices) or thinner than snap (2 · |area| / perimeter).
+// O(n).
 bool without_debris(const Ring2& ring, double snap, Ring2& out) {
-  out.clear();
-  out.reserve(ring.size());
   const auto close = [snap](const Vec2& a, const Vec2& b) {
     return (a - b).cwiseAbs().maxCoeff() <= snap;
   };
-  for (const Vec2& v : ring)
-    if (out.empty() || !close(out.back(), v)) out.push_back(v);
-  while (out.size() > 1 && close(out.back(), out.front())) out.pop_back();
+  const auto spike = [snap](const Vec2& a, const Vec2& q, const Vec2& b) {
+    const Vec2 u = a - q, w = b - q;
+    return u.dot(w) > 0 && std::abs(u.x() * w.y() - u.y() * w.x()) <= snap * std::max(u.norm(), w.norm());
+  };
+  out.clear();
+  out.reserve(ring.size());
+  for (const Vec2& v : ring) {
+    out.push_back(v);
+    for (;;) {
+      const size_t n = out.size();
+      if (n >= 2 && close(out[n - 2], out[n - 1])) {
+        out.pop_back();
+      } else if (n >= 3 && spike(out[n - 3], out[n - 2], out[n - 1])) {
+        out.erase(out.end() - 2);
+      } else {
+        break;
+      }
+    }
+  }
+  for (bool changed = true; changed && out.size() >= 3;) {  // around the seam
+    const size_t n = out.size();
+    changed = true;
+    if (close(out[n - 1], out[0]) || spike(out[n - 2], out[n - 1], out[0]))
+      out.pop_back();
+    else if (spike(out[n - 1], out[0], out[1]))
+      out.erase(out.begin());
+    else
+      changed = false;
+  }
   if (out.size() < 3) return false;
   double perimeter = 0;
   for (size_t k = 0; k < out.size(); ++k) perimeter += (out[(k + 1) % out.size()] - out[k]).norm();

@@ -52,8 +52,9 @@ constexpr double kChainJoinTolerance = 1e-12;
 /// union (or difference) of convex pieces clipped by rounded planes, so two crossings that are
 /// one point in exact arithmetic can come out a few ulps apart, and where an occlusion volume
 /// only touches a face a ring of no width can come out with an area of 1e-16. On output,
-/// consecutive ring vertices closer than kShadowDebris × the scene's scale are one vertex, and a
-/// ring whose mean width (2 · area / perimeter) is below that is dropped (a polygon whose outer
+/// consecutive ring vertices closer than kShadowDebris × the scene's scale are one vertex, a
+/// spike (the ring out and back along two edges that close) loses its tip, and a ring whose
+/// mean width (2 · area / perimeter) is below that is dropped (a polygon whose outer
 /// ring goes, with its holes). The areas (shadow_area, visible_shadow_area, counts) are computed
 /// before and do not depend on it; a polygon's own area moves by at most this × its perimeter.
 constexpr double kShadowDebris = 1e-12;
