@@ -213,7 +213,8 @@ bool without_debris(const Ring2& ring, double snap, Ring2& out) {
   };
   const auto spike = [snap](const Vec2& a, const Vec2& q, const Vec2& b) {
     const Vec2 u = a - q, w = b - q;
-    return u.dot(w) > 0 && std::abs(u.x() * w.y() - u.y() * w.x()) <= snap * std::max(u.norm(), w.norm());
+    const double height_times_longer = std::abs(u.x() * w.y() - u.y() * w.x());
+    return u.dot(w) > 0 && height_times_longer <= snap * std::max(u.norm(), w.norm());
   };
   out.clear();
   out.reserve(ring.size());
