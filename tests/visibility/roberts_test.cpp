@@ -571,8 +571,8 @@ TEST(Roberts, BoxWithAHoleDrawsNoCutEdges) {
 // hole over a ground slab: 46 and 60 slivers in two sets of 40 random scenes): visible slivers
 // of 1e-15 … 1e-13 at the ends of hidden edges, where the edge's end vertex lies on a face of a
 // piece of its own body (exactly, in the decomposition's model) but rotated coordinates put the
-// rounded piece's plane an ulp off it. The exact piece's face passes through the vertex, so the hidden part reaches
-// it (Roberts::end_snapped). Reference: the ray-cast visible length over the bodies' convex
+// rounded piece's plane an ulp off it. The exact piece's face passes through the vertex, so the
+// hidden part reaches it (Roberts::end_snapped). Reference: the ray-cast visible length over the bodies' convex
 // parts, rotated the same way.
 TEST(Roberts, RotatedNonConvexBodiesLeaveNoSliversAtEdgeEnds) {
   const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
