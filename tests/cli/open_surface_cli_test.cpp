@@ -60,13 +60,22 @@ std::string scan_off() {
 TEST(OpenSurfaceCli, ScanRendersDrawsAndCastsShadows) {
   const fs::path dir = hedra::testing::temp_dir("open_surface_cli");
   const std::string scan = hedra::testing::write(dir / "scan.off", scan_off());
-  // Drawing: the scan's boundary and its creases, hidden parts behind it.
+  // Drawing: the scan's boundary (its ragged last row), the ground's edges and the cap's
+  // outline, hidden parts behind them; the edges between the cap's faces (they turn by 13° and
+  // 22.5°) are smooth. With crease angle 0, every facet edge and no outline.
   auto r = run_hedra("hlr " + scan + " --hidden -o " + (dir / "scan.svg").string() + " --json " +
                      (dir / "h.json").string());
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json h = nlohmann::json::parse(read(dir / "h.json"));
-  EXPECT_GT(h["visible"].size(), 100u);
+  EXPECT_GT(h["visible"].size(), 20u);
+  EXPECT_LT(h["visible"].size(), 60u);
+  EXPECT_GT(h["outline"].size(), 10u);
   EXPECT_GT(h["hidden"].size(), 10u);  // the far side of the scan and the ground's back edges
+  r = run_hedra("hlr " + scan + " --crease-angle 0 --json " + (dir / "h.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json all = nlohmann::json::parse(read(dir / "h.json"));
+  EXPECT_GT(all["visible"].size(), 200u);
+  EXPECT_FALSE(all.contains("outline"));
   // Shadows: the scan shades the ground's top (the file's face 1, body scan.f1).
   r = run_hedra("shadows " + scan + " --json " + (dir / "s.json").string());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -260,9 +269,20 @@ TEST(OpenSurfaceCli, ToleranceMergesNearlyCoplanarFacesOfAnOpenSurface) {
   const fs::path dir = hedra::testing::temp_dir("open_tolerance_cli");
   const std::string grid = hedra::testing::write(dir / "grid.off", noisy_grid_off());
   const std::string json = (dir / "h.json").string();
-  // Drawn from above: exact, every edge between the noisy triangles is a crease; within
-  // D = 1e-6, one face whose 4 edges are the border (length 2 · 5 · (√1.09 + √1.04)).
+  // Drawn from above: exact, the noisy triangles stay apart and the edges between them are
+  // smooth (they turn by far less than 30°): the border alone is drawn, in 40 segments, of
+  // length 2 · 5 · (√1.09 + √1.04); with crease angle 0 every edge between them is drawn.
+  // Within D = 1e-6, one face whose 4 edges are the border.
   auto r = run_hedra("hlr " + grid + " --json " + json);
+  ASSERT_EQ(r.code, 0) << r.err;
+  {
+    const nlohmann::json h = nlohmann::json::parse(read(json));
+    EXPECT_EQ(h["visible"].size(), 40u);
+    double drawn = 0;
+    for (const auto& s : h["visible"]) drawn += length(s);
+    EXPECT_NEAR(drawn, 10 * (std::sqrt(1.09) + std::sqrt(1.04)), 1e-5);
+  }
+  r = run_hedra("hlr " + grid + " --crease-angle 0 --json " + json);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_GT(nlohmann::json::parse(read(json))["visible"].size(), 200u);
   r = run_hedra("hlr " + grid + " --tolerance 1e-6 --json " + json);

@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <numbers>
 #include <optional>
 
 #include "hedra/core/error.h"
@@ -19,6 +22,8 @@
 
 namespace hedra {
 namespace {
+
+constexpr double kPi = std::numbers::pi;
 
 // ---- Two-sided faces ----
 
@@ -281,6 +286,147 @@ TEST(OpenSurfaceHiddenLines, BoxPartlyBehindASquareMatchesRayCasting) {
     if (faces.size() == 1) EXPECT_NEAR(square_visible, square_edges, 1e-12);
     else EXPECT_GE(square_visible, square_edges - 1e-12);
   }
+}
+
+// ---- Hidden lines: line classes and outlines of open surfaces ----
+
+// A unit hemispherical bowl (z ≤ 0, open at the rim z = 0) of `m` longitudes and `rings`
+// latitude bands, as triangles wound outward (away from the centre).
+PolygonSoup bowl(int m, int rings) {
+  PolygonSoup soup;
+  soup.vertices.push_back({0, 0, -1});  // the pole
+  for (int r = 1; r <= rings; ++r) {
+    const double lat = -kPi / 2 + kPi / 2 * r / rings;
+    for (int k = 0; k < m; ++k) {
+      const double lon = 2 * kPi * k / m;
+      soup.vertices.push_back({std::cos(lat) * std::cos(lon), std::cos(lat) * std::sin(lon), r == rings ? 0.0 : std::sin(lat)});
+    }
+  }
+  const auto at = [&](int r, int k) { return 1 + (r - 1) * m + (k % m); };
+  for (int k = 0; k < m; ++k) soup.polygons.push_back({0, at(1, k + 1), at(1, k)});
+  for (int r = 1; r < rings; ++r)
+    for (int k = 0; k < m; ++k) {
+      soup.polygons.push_back({at(r, k), at(r, k + 1), at(r + 1, k + 1)});
+      soup.polygons.push_back({at(r, k), at(r + 1, k + 1), at(r + 1, k)});
+    }
+  return soup;
+}
+
+TEST(OpenSurfaceHiddenLines, BowlIsDrawnAsItsRimAndItsOutline) {
+  // Seen in parallel along d = (1, 0, −1): the rim (z = 0) is wholly visible (every ray to it
+  // comes from above the bowl), and the outline is the contour n·d = 0 of the sphere, the
+  // half great circle x = z ≤ 0 in the plane normal to d: a half circle of radius 1 in the
+  // picture, π long, hidden by nothing (a tangent ray meets the sphere only at its point).
+  // By hand: the rim's projected chords, and π within the chordal error. No other mesh edge is
+  // drawn: with the default crease angle of 30° every edge between two faces is smooth.
+  const int m = 128, rings = 32;
+  const PolygonSoup soup = bowl(m, rings);
+  std::vector<Body> faces = two_sided_faces(soup);
+  const Vec3 d(1, 0, -1);
+  const Camera camera = Camera::parallel(d);
+  double rim = 0;
+  const Vec3 u = d.normalized();
+  for (int k = 0; k < m; ++k) {
+    const Vec3 chord = soup.vertices[1 + (rings - 1) * m + (k + 1) % m] - soup.vertices[1 + (rings - 1) * m + k];
+    rim += (chord - chord.dot(u) * u).norm();
+  }
+  HlrOptions options;
+  options.junctions = false;
+  const HlrResult r = hidden_lines(faces, camera, options);
+  EXPECT_NEAR(r.picture_length(LineKind::Edge), rim, 1e-9);
+  for (const HlrSegment& s : r.visible)
+    if (s.kind == LineKind::Edge) {
+      EXPECT_TRUE(s.a.z() == 0 && s.b.z() == 0) << "a drawn edge off the rim";
+    }
+  // At the rim the corner normals are one-sided (the faces below only): tilted down by about
+  // half a band's angle, they move the contour's ends along the rim by O(band), so the whole
+  // outline is π within 2 %; away from the rim (z ≤ −0.1) the error is the chordal one: there
+  // the outline is the arc θ ∈ [asin(0.1·√2), π − asin(0.1·√2)] of the half circle
+  // p(θ) = (−sin θ/√2, cos θ, −sin θ/√2), within 0.5 %, and on the plane x = z.
+  EXPECT_NEAR(r.picture_length(LineKind::Outline), kPi, 2e-2 * kPi);
+  const double arc = kPi - 2 * std::asin(0.1 * std::sqrt(2.0));
+  double deep = 0;
+  for (const HlrSegment& s : r.visible) {
+    if (s.kind != LineKind::Outline) continue;
+    // The part with z ≤ −0.1 (z is linear along the segment).
+    double t0 = 0, t1 = 1;
+    const double za = s.a.z() + 0.1, zb = s.b.z() + 0.1;
+    if (za > 0 && zb > 0) continue;
+    if (za > 0) t0 = za / (za - zb);
+    if (zb > 0) t1 = za / (za - zb);
+    deep += (t1 - t0) * (s.b2 - s.a2).norm();
+    for (const Vec3& p : {s.a, s.b})
+      if (p.z() <= -0.1) EXPECT_LT(std::abs(p.x() - p.z()), 2e-3) << p.transpose();
+  }
+  EXPECT_NEAR(deep, arc, 5e-3 * arc);
+  EXPECT_EQ(r.stats.smooth_edges, (3 * m * (2 * rings - 1) - m) / 2) << "every edge but the rim's";
+  // Without line classes (crease angle 0) every facet edge is drawn and there is no outline.
+  options.crease_angle = 0;
+  const HlrResult all = hidden_lines(faces, camera, options);
+  EXPECT_EQ(all.picture_length(LineKind::Outline), 0);
+  EXPECT_GT(all.picture_length(LineKind::Edge), 10 * rim);
+}
+
+TEST(OpenSurfaceHiddenLines, RotatedTroughKeepsItsBoundaryAndValleyAsSharpEdges) {
+  // A V trough z = |x| over [−1, 1] × [0, 2], two 45° slopes given as 8 × 8 grids of
+  // triangles, under a generic rotation: rounding leaves the triangles of a slope nearly but
+  // not exactly coplanar (so they stay separate faces), and their shared edges are smooth; the
+  // valley (the slopes turn by 90°) and the boundary are sharp. Seen from above, everything is
+  // visible; by hand, in the picture plane (the rotated xy plane): the boundary 2 + 2 + 2 + 2
+  // and the valley 2.
+  const Transform rot = Transform::rotation({0.3, 0.7, 0.2}, 33);
+  PolygonSoup soup;
+  const int n = 8;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= 2 * n; ++i) {
+      const double x = -1 + 1.0 * i / n, y = 2.0 * j / n;
+      soup.vertices.push_back(rot.apply(Vec3(x, y, std::abs(x))));
+    }
+  const auto at = [&](int i, int j) { return j * (2 * n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < 2 * n; ++i) {
+      soup.polygons.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      soup.polygons.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  const std::vector<Body> faces = two_sided_faces(soup);
+  ASSERT_GT(faces.size(), 20u) << "rounding should keep most triangles apart";
+  const Camera camera = Camera::parallel(rot.apply_vector({0.1, 0.2, -1}), rot.apply_vector({0, 1, 0}));
+  HlrOptions options;
+  options.junctions = false;
+  options.smooth = true;
+  const HlrResult r = hidden_lines(faces, camera, options);
+  // Picture lengths along the slanted view: each segment's projection onto the plane normal
+  // to the view, computed here from the world segments.
+  const Vec3 v = rot.apply_vector({0.1, 0.2, -1}).normalized();
+  double edges = 0, want = 0;
+  for (const HlrSegment& s : r.visible)
+    if (s.kind == LineKind::Edge) {
+      const Vec3 e = s.b - s.a;
+      edges += (e - e.dot(v) * v).norm();
+    }
+  const auto projected = [&](const Vec3& a, const Vec3& b) {
+    const Vec3 e = rot.apply_vector(b - a);
+    return (e - e.dot(v) * v).norm();
+  };
+  // Boundary: y = 0 and y = 2 (two slopes each), x = ±1; the valley x = 0.
+  for (const double y : {0.0, 2.0})
+    want += projected({-1, y, 1}, {0, y, 0}) + projected({0, y, 0}, {1, y, 1});
+  want += 2 * projected({1, 0, 1}, {1, 2, 1}) + projected({0, 0, 0}, {0, 2, 0});
+  EXPECT_NEAR(edges, want, 1e-9);
+  EXPECT_EQ(r.picture_length(LineKind::Outline), 0) << "seen from above, no contour";
+  // Each smooth edge once (two faces share it), none on the valley.
+  std::vector<std::array<double, 6>> smooth;
+  for (const HlrSegment& s : r.visible)
+    if (s.kind == LineKind::Smooth) {
+      Vec3 a = s.a, b = s.b;
+      if (std::lexicographical_compare(b.data(), b.data() + 3, a.data(), a.data() + 3)) std::swap(a, b);
+      smooth.push_back({a.x(), a.y(), a.z(), b.x(), b.y(), b.z()});
+      const Vec3 local = rot.inverse().apply(Vec3(0.5 * (s.a + s.b)));
+      EXPECT_GT(std::abs(local.x()), 1e-6) << "a valley edge drawn as smooth";
+    }
+  EXPECT_GT(smooth.size(), 100u);
+  std::sort(smooth.begin(), smooth.end());
+  EXPECT_EQ(std::adjacent_find(smooth.begin(), smooth.end()), smooth.end()) << "a smooth edge drawn twice";
 }
 
 // ---- Shadows: a terrain-like open grid over a ground slab ----

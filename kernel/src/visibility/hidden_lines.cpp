@@ -3,6 +3,7 @@
 // candidate occluders). Junction lines and coincident edges: junction_lines.cpp.
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 
 #include "hedra/core/error.h"
@@ -207,7 +208,7 @@ void Roberts::prepare_bodies() {
         for (size_t f = lo; f != hi; ++f) bd.facing[f] = facing(body, static_cast<int>(f), view_);
       });
       // Line classes: O(E) in double (a drawing construction, not a decision). A two-sided
-      // face of an open surface has only its own boundary: every edge is drawn.
+      // face of an open surface gets its classes from the faces around it (surface_joins).
       if (options_.crease_angle > 0 && !body.two_sided()) {
         bd.classes = classify_edges(body, options_.crease_angle, surface(static_cast<int>(b)));
         bd.any_smooth = std::find(bd.classes.begin(), bd.classes.end(), EdgeClass::Smooth) != bd.classes.end();
@@ -252,7 +253,7 @@ void Roberts::prepare_bodies() {
       per_body[b].facets = facets_of(static_cast<int>(b), per_body[b].pieces);
     }
   });
-  flat_joins();
+  surface_joins();
   size_t count = 0;
   for (size_t b = 0; b < n; ++b) {
     if (!per_body[b].error.empty()) throw InvalidInput(name(static_cast<int>(b)) + ": " + per_body[b].error);
@@ -398,21 +399,25 @@ std::optional<SegmentPart> Roberts::hidden_part(const HlrPiece& p, const Vec3& p
   return clip_segment_open(*v.clipper, p1, p2);
 }
 
-void Roberts::flat_joins() {
+void Roberts::surface_joins() {
   // Edges of two-sided faces (the faces of open surfaces), with their end points in
-  // lexicographic order as the key: an edge that two such faces share in opposite directions,
-  // the faces exactly coplanar, lies inside one flat region (a non-convex or holed face of the
-  // surface, cut into convex two-sided faces): smooth, as an edge between coplanar faces of a
-  // solid is no edge of the drawing. Every other edge of a two-sided face stays sharp.
+  // lexicographic order as the key. An edge that two such faces share in opposite directions
+  // (a consistently oriented surface) is smooth when the faces are exactly coplanar (it lies
+  // inside one flat region: a non-convex or holed face of the surface, cut into convex
+  // two-sided faces, as an edge between coplanar faces of a solid is no edge of the drawing),
+  // or, with a crease angle, when their normals turn by at most that angle (line classes, as
+  // classify_edges does for a solid). Boundary edges and creases stay sharp. Cost O(E log E).
   struct Key {
     std::array<double, 6> ends;
     int body, edge;
     bool forward;  // v0 → v1 runs from the smaller end point to the larger
   };
   std::vector<Key> keys;
+  std::vector<int> sided;  // the two-sided bodies
   for (size_t b = 0; b < bodies_.size(); ++b) {
     const Body& body = bodies_[b];
     if (!body.two_sided()) continue;
+    sided.push_back(static_cast<int>(b));
     const auto& v = body.vertices();
     for (int e = 0; e < body.edge_count(); ++e) {
       const Edge& edge = body.edges()[static_cast<size_t>(e)];
@@ -423,7 +428,7 @@ void Roberts::flat_joins() {
       keys.push_back({{lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()}, static_cast<int>(b), e, forward});
     }
   }
-  if (keys.size() < 2) return;
+  if (sided.size() < 2) return;
   std::sort(keys.begin(), keys.end(), [](const Key& x, const Key& y) {
     return x.ends < y.ends || (x.ends == y.ends && std::tie(x.body, x.edge) < std::tie(y.body, y.edge));
   });
@@ -437,19 +442,140 @@ void Roberts::flat_joins() {
         return false;
     return true;
   };
-  const auto mark = [&](const Key& k) {
+  // The outward unit normal of a two-sided face: its face 0, wound as the surface's polygon.
+  const auto normal = [&](int b) { return Vec3(-bodies_[static_cast<size_t>(b)].inner_normal(0).normalized()); };
+  const double cos_crease =
+      options_.crease_angle > 0 ? std::cos(options_.crease_angle * std::numbers::pi / 180) : 2.0;
+  const auto mark = [&](const Key& k, bool twin) {
     HlrBody& bd = data_[static_cast<size_t>(k.body)];
-    if (bd.classes.empty()) bd.classes.assign(static_cast<size_t>(bodies_[static_cast<size_t>(k.body)].edge_count()), EdgeClass::Sharp);
+    const size_t edges = static_cast<size_t>(bodies_[static_cast<size_t>(k.body)].edge_count());
+    if (bd.classes.empty()) bd.classes.assign(edges, EdgeClass::Sharp);
     bd.classes[static_cast<size_t>(k.edge)] = EdgeClass::Smooth;
+    if (twin) {
+      if (bd.twin.empty()) bd.twin.assign(edges, 0);
+      bd.twin[static_cast<size_t>(k.edge)] = 1;
+    }
   };
+  bool any_crease_join = false;
   for (size_t i = 0, j; i < keys.size(); i = j) {
     for (j = i + 1; j < keys.size() && keys[j].ends == keys[i].ends; ++j) {
     }
-    // Exactly two faces on the edge, in opposite directions, in one plane.
+    // Exactly two faces on the edge, in opposite directions.
     if (j - i != 2 || keys[i].forward == keys[i + 1].forward || keys[i].body == keys[i + 1].body) continue;
-    if (!coplanar(keys[i].body, keys[i + 1].body)) continue;
-    mark(keys[i]);
-    mark(keys[i + 1]);
+    const bool flat = coplanar(keys[i].body, keys[i + 1].body);
+    if (!flat && !(normal(keys[i].body).dot(normal(keys[i + 1].body)) >= cos_crease)) continue;
+    any_crease_join = any_crease_join || !flat;
+    // The edge is one line of the drawing: the second face leaves it to the first (--smooth).
+    mark(keys[i], false);
+    mark(keys[i + 1], true);
+  }
+  if (any_crease_join) surface_outline(sided);
+}
+
+void Roberts::surface_outline(const std::vector<int>& sided) {
+  // The outline of the open surfaces' smooth parts, as outline() for a solid: corner normals
+  // area-weighted over the faces around the corner's point that turn from the face by at most
+  // the crease angle; in each triangle of a face (a fan: the faces are convex) the segment
+  // where g = n·r changes sign. Corners are the faces' vertices identified by their exact
+  // coordinates (the surface's faces are separate bodies). Cost O(n log n) for n corners.
+  struct Corner {
+    Vec3 p;
+    int slot, index;
+  };
+  std::vector<Corner> corners;
+  std::vector<Vec3> normal(sided.size());
+  std::vector<double> area(sided.size());
+  for (size_t s = 0; s < sided.size(); ++s) {
+    const Body& body = bodies_[static_cast<size_t>(sided[s])];
+    normal[s] = -body.inner_normal(0).normalized();
+    area[s] = body.face_area(0);
+    const auto& loop = body.faces()[0].loops[0];
+    for (size_t i = 0; i < loop.size(); ++i)
+      corners.push_back({body.vertices()[static_cast<size_t>(loop[i])], static_cast<int>(s), static_cast<int>(i)});
+  }
+  std::sort(corners.begin(), corners.end(), [](const Corner& a, const Corner& b) {
+    return std::lexicographical_compare(a.p.data(), a.p.data() + 3, b.p.data(), b.p.data() + 3);
+  });
+  // Point ids in lexicographic order; per face, its corners' point ids; per point, its faces.
+  std::vector<std::vector<int>> point_of(sided.size());
+  for (size_t s = 0; s < sided.size(); ++s)
+    point_of[s].resize(bodies_[static_cast<size_t>(sided[s])].faces()[0].loops[0].size());
+  std::vector<int> start{0}, around;
+  for (size_t i = 0; i < corners.size(); ++i) {
+    if (i > 0 && corners[i].p != corners[i - 1].p) start.push_back(static_cast<int>(around.size()));
+    point_of[static_cast<size_t>(corners[i].slot)][static_cast<size_t>(corners[i].index)] =
+        static_cast<int>(start.size()) - 1;
+    around.push_back(corners[i].slot);
+  }
+  start.push_back(static_cast<int>(around.size()));
+  const double cos_crease = std::cos(options_.crease_angle * std::numbers::pi / 180);
+  // Face s's corner at point x: a corner whose faces within the crease angle all share s's
+  // normal (a flat region, or a face alone at a crease) keeps it exactly: no contour there.
+  const auto corner_normal = [&](size_t s, int x) {
+    const Vec3& ns = normal[s];
+    Vec3 sum = Vec3::Zero();
+    bool flat = true;
+    for (int k = start[static_cast<size_t>(x)]; k < start[static_cast<size_t>(x) + 1]; ++k) {
+      const size_t g = static_cast<size_t>(around[static_cast<size_t>(k)]);
+      if (!(normal[g].dot(ns) >= cos_crease)) continue;
+      sum += area[g] * normal[g];
+      flat = flat && (normal[g] - ns).cwiseAbs().maxCoeff() <= 1e-12;
+    }
+    return flat || !(sum.norm() > 0) ? ns : Vec3(sum.normalized());
+  };
+  std::vector<char> has(sided.size(), 0);
+  parallel_chunks(sided.size(), 1024, [&](size_t, size_t lo, size_t hi) {
+    std::vector<Vec3> p;
+    std::vector<double> g;
+    for (size_t s = lo; s != hi; ++s) {
+      const Body& body = bodies_[static_cast<size_t>(sided[s])];
+      const auto& loop = body.faces()[0].loops[0];
+      const std::vector<int>& ids = point_of[s];
+      const size_t k = loop.size();
+      p.resize(k);
+      g.resize(k);
+      bool pos = false, neg = false;
+      for (size_t i = 0; i < k; ++i) {
+        p[i] = body.vertices()[static_cast<size_t>(loop[i])];
+        g[i] = corner_normal(s, ids[i]).dot(view_.ray_to(p[i]));
+        (g[i] >= 0 ? pos : neg) = true;
+      }
+      if (!pos || !neg) continue;
+      // The fan from corner 0; a crossing on a side is interpolated from the end with the
+      // smaller point id, so the face across the side gets the same point.
+      std::vector<OutlineSegment>& out = data_[static_cast<size_t>(sided[s])].surface_outline;
+      for (size_t t = 1; t + 1 < k; ++t) {
+        const size_t c[3] = {0, t, t + 1};
+        Vec3 ends[2];
+        int m = 0;
+        for (int e = 0; e < 3; ++e) {
+          size_t i = c[e], j = c[(e + 1) % 3];
+          if ((g[i] >= 0) == (g[j] >= 0)) continue;
+          if (ids[j] < ids[i]) std::swap(i, j);
+          ends[m++] = p[i] + (g[i] / (g[i] - g[j])) * (p[j] - p[i]);
+        }
+        if (m == 2) out.push_back({ends[0], ends[1], 0});
+      }
+      has[s] = !out.empty();
+    }
+  });
+  // The faces within two rings of a face with an outline: they approximate the smooth surface
+  // the outline lies on, so they do not hide it (as outline_of() for a faceted solid).
+  for (size_t s = 0; s < sided.size(); ++s) {
+    if (!has[s]) continue;
+    std::vector<int>& near = data_[static_cast<size_t>(sided[s])].surface_near;
+    std::vector<int> ring;
+    for (int x : point_of[s])
+      for (int k = start[static_cast<size_t>(x)]; k < start[static_cast<size_t>(x) + 1]; ++k)
+        ring.push_back(around[static_cast<size_t>(k)]);
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    for (int r : ring)
+      for (int x : point_of[static_cast<size_t>(r)])
+        for (int k = start[static_cast<size_t>(x)]; k < start[static_cast<size_t>(x) + 1]; ++k)
+          near.push_back(sided[static_cast<size_t>(around[static_cast<size_t>(k)])]);
+    std::sort(near.begin(), near.end());
+    near.erase(std::unique(near.begin(), near.end()), near.end());
   }
 }
 
@@ -750,6 +876,8 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     // of hidden lines on a tessellated sphere).
     const bool smooth = !bd.classes.empty() && bd.classes[static_cast<size_t>(e)] == EdgeClass::Smooth;
     if (smooth) {
+      // An edge two faces of an open surface share is one edge: counted and drawn once.
+      if (!bd.twin.empty() && bd.twin[static_cast<size_t>(e)]) continue;
       ++out.stats.smooth_edges;
       if (!options_.smooth) continue;
     }
@@ -814,6 +942,21 @@ bool Roberts::outline_on_piece(const HlrPiece& p, const Vec3& n, const Vec3& a, 
 
 void Roberts::outline_of(int b, Scratch& scratch, EdgeOutput& out) const {
   const HlrBody& bd = data_[static_cast<size_t>(b)];
+  if (!bd.surface_outline.empty()) {
+    // A two-sided face's part of its surface's outline: not hidden by the faces around it.
+    out.stats.outline_segments += static_cast<int>(bd.surface_outline.size());
+    for (const OutlineSegment& s : bd.surface_outline) {
+      if (s.a == s.b || end_on(s.a, s.b)) continue;
+      const auto keep = [&](const HlrPiece& o) {
+        return !std::binary_search(bd.surface_near.begin(), bd.surface_near.end(), o.body);
+      };
+      visible_parts(s.a, s.b, keep, scratch, out);
+      for (const TInterval& t : scratch.result)
+        add_segment(out.classes, point_at(s.a, s.b, t.first), point_at(s.a, s.b, t.second),
+                    LineKind::Outline, b, -1, -1);
+    }
+    return;
+  }
   if (!bd.any_smooth) return;
   const Body& body = bodies_[static_cast<size_t>(b)];
   const std::vector<OutlineSegment> segments =

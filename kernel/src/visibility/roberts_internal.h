@@ -172,6 +172,12 @@ struct HlrBody {
   bool faceted = false;
   // faceted, with outlines: per vertex, the faces around it (outline_of's neighbourhood).
   std::vector<std::vector<int>> vertex_faces;
+  // A two-sided face of an open surface (surface_joins): per edge, 1 where the face across a
+  // smooth shared edge draws it (with --smooth; empty: none); its part of the surface's
+  // outline; and the faces within two rings of it, which do not hide that part.
+  std::vector<char> twin;
+  std::vector<OutlineSegment> surface_outline;
+  std::vector<int> surface_near;
 };
 
 // The end vertices of a segment that is an edge (v0, v1) of body `body` (Roberts::visible_parts);
@@ -196,8 +202,12 @@ class Roberts {
 
   void check_view();
 
-  // Marks the edges that two-sided faces share inside one flat region as smooth (classes).
-  void flat_joins();
+  // Open surfaces (two-sided faces): marks the edges their faces share inside one flat region,
+  // or across a turn of at most the crease angle, as smooth (HlrBody::classes, twin), and
+  // computes the outline of their smooth parts (surface_outline).
+  void surface_joins();
+  // The outline of the two-sided faces `sided` (HlrBody::surface_outline, surface_near).
+  void surface_outline(const std::vector<int>& sided);
   Eigen::AlignedBox2d picture_box(std::span<const Vec3> vertices) const;
 
   double near_depth(std::span<const Vec3> vertices) const;

@@ -6,8 +6,9 @@
 // body whose one face turns to the point (hedra/visibility/occlusion.h). So each face of an
 // open surface becomes a Body::two_sided_polygon(): it occludes and casts shadows like a
 // convex piece, receives shadows on the side facing a light (the other side is self-shadowed)
-// and is rasterized on the side facing the camera. Edges between faces of a surface that are
-// not exactly coplanar, and its boundary edges, are drawn as sharp edges.
+// and is rasterized on the side facing the camera. Hidden lines classify the edges between
+// faces of a surface by the crease angle and draw the outline of its smooth parts, as for a
+// solid (docs/hidden-lines.md); its boundary edges are always sharp.
 #pragma once
 
 #include <vector>
