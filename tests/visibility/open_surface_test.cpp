@@ -360,6 +360,26 @@ TEST(OpenSurfaceHiddenLines, BowlIsDrawnAsItsRimAndItsOutline) {
   }
   EXPECT_NEAR(deep, arc, 5e-3 * arc);
   EXPECT_EQ(r.stats.smooth_edges, (3 * m * (2 * rings - 1) - m) / 2) << "every edge but the rim's";
+  // From a finite eye e = −6·d/|d| (perspective, looking at the centre): the contour of the
+  // sphere is where the ray from the eye is tangent, the plane e·p = 1; the rim is again
+  // wholly visible (every ray to it comes from above), 2m·sin(π/m) long in space. The
+  // interpolated contour lies within 2e-3 of that plane (measured; the facets lie inside the
+  // sphere by the chordal error), checked at twice that.
+  {
+    const Vec3 eye = -6 * u;
+    HlrOptions persp = options;
+    const HlrResult pr = hidden_lines(faces, Camera::perspective(eye, Vec3::Zero(), 40), persp);
+    EXPECT_NEAR(pr.length(LineKind::Edge), 2 * m * std::sin(kPi / m), 1e-9);
+    int points = 0;
+    for (const HlrSegment& s : pr.visible)
+      if (s.kind == LineKind::Outline)
+        for (const Vec3& p : {s.a, s.b})
+          if (p.z() <= -0.1) {
+            ++points;
+            EXPECT_LT(std::abs(eye.dot(p) - 1), 4e-3) << p.transpose();
+          }
+    EXPECT_GT(points, 50);
+  }
   // Without line classes (crease angle 0) every facet edge is drawn and there is no outline.
   options.crease_angle = 0;
   const HlrResult all = hidden_lines(faces, camera, options);
