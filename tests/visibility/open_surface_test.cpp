@@ -355,8 +355,11 @@ TEST(OpenSurfaceHiddenLines, BowlIsDrawnAsItsRimAndItsOutline) {
     if (za > 0) t0 = za / (za - zb);
     if (zb > 0) t1 = za / (za - zb);
     deep += (t1 - t0) * (s.b2 - s.a2).norm();
-    for (const Vec3& p : {s.a, s.b})
-      if (p.z() <= -0.1) EXPECT_LT(std::abs(p.x() - p.z()), 2e-3) << p.transpose();
+    for (const Vec3& p : {s.a, s.b}) {
+      if (p.z() <= -0.1) {
+        EXPECT_LT(std::abs(p.x() - p.z()), 2e-3) << p.transpose();
+      }
+    }
   }
   EXPECT_NEAR(deep, arc, 5e-3 * arc);
   EXPECT_EQ(r.stats.smooth_edges, (3 * m * (2 * rings - 1) - m) / 2) << "every edge but the rim's";
@@ -447,6 +450,31 @@ TEST(OpenSurfaceHiddenLines, RotatedTroughKeepsItsBoundaryAndValleyAsSharpEdges)
   EXPECT_GT(smooth.size(), 100u);
   std::sort(smooth.begin(), smooth.end());
   EXPECT_EQ(std::adjacent_find(smooth.begin(), smooth.end()), smooth.end()) << "a smooth edge drawn twice";
+}
+
+TEST(OpenSurfaceHiddenLines, CrossingSurfacesMeetInAJunctionNeighboursDoNot) {
+  // Two single-face surfaces crossing: the square [−1, 1]² at z = 0 and the square x = 0,
+  // y ∈ [−0.5, 0.5], z ∈ [−1, 1]. Their junction is the segment x = z = 0, |y| ≤ 0.5, seen
+  // whole from above (it lies on both faces, which do not hide it): length 1, by hand.
+  const Camera camera = Camera::parallel({0.3, 0.2, -1});
+  HlrOptions options;
+  std::vector<Body> faces = {
+      Body::two_sided_polygon({{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}),
+      Body::two_sided_polygon({{0, -0.5, -1}, {0, 0.5, -1}, {0, 0.5, 1}, {0, -0.5, 1}})};
+  const HlrResult crossing = hidden_lines(faces, camera, options);
+  EXPECT_NEAR(crossing.length(LineKind::Junction), 1, 1e-12);
+  // A surface whose faces meet only at shared edges and corners (a fan of 12 triangles round
+  // an apex, a shallow cone, and a flat square beside it sharing one edge): no junction line,
+  // however many of its faces' boxes meet; its boundary drawn whole.
+  PolygonSoup fan;
+  fan.vertices.push_back({0, 0, 0.3});
+  for (int k = 0; k < 12; ++k)
+    fan.vertices.push_back({std::cos(2 * kPi * k / 12), std::sin(2 * kPi * k / 12), 0});
+  for (int k = 0; k < 12; ++k) fan.polygons.push_back({0, 1 + k, 1 + (k + 1) % 12});
+  const HlrResult cone = hidden_lines(two_sided_faces(fan), camera, options);
+  EXPECT_EQ(cone.length(LineKind::Junction), 0);
+  EXPECT_EQ(cone.stats.junction_segments, 0);
+  EXPECT_NEAR(cone.length(LineKind::Edge), 12 * 2 * std::sin(kPi / 12), 1e-12);
 }
 
 // ---- Shadows: a terrain-like open grid over a ground slab ----

@@ -32,6 +32,15 @@ std::optional<Body> convex_face_of(const std::vector<Vec3>& vertices, const Loop
   }
 }
 
+// Whether every corner of q lies exactly on the plane of p's first three corners (not collinear:
+// p is a strictly convex loop). Cost O(|q|).
+bool coplanar_loops(const std::vector<Vec3>& v, const Loop& p, const Loop& q) {
+  const Vec3 &a = v[static_cast<size_t>(p[0])], &b = v[static_cast<size_t>(p[1])], &c = v[static_cast<size_t>(p[2])];
+  for (int x : q)
+    if (orient3d(a, b, c, v[static_cast<size_t>(x)]) != Sign::Zero) return false;
+  return true;
+}
+
 // The loop of P ∪ Q across their shared edge a → b of P (b → a of Q): P from b round to a,
 // then Q's vertices strictly between a and b. Empty when Q does not run b → a.
 Loop joined(const Loop& p, const Loop& q, int a, int b) {
@@ -146,6 +155,10 @@ std::vector<Body> faces_of_loops(const PolygonSoup& soup, double planarity) {
         const int a = p[k], b = p[(k + 1) % p.size()];
         for (int j : by_edge[key(a, b)]) {
           if (j == static_cast<int>(i) || !alive[static_cast<size_t>(j)]) continue;
+          // Exactly: a neighbour off p's plane (the first three corners of a strictly convex
+          // loop are not collinear) cannot merge; settled without building the union (whose
+          // refusal is an exception: a curved surface of 80 000 triangles spent a second in them).
+          if (planarity == 0 && !coplanar_loops(soup.vertices, p, loops[static_cast<size_t>(j)])) continue;
           Loop u = joined(p, loops[static_cast<size_t>(j)], a, b);
           if (u.empty() || !convex_face(soup, u)) continue;
           for (size_t m = 0; m < loops[static_cast<size_t>(j)].size(); ++m) {

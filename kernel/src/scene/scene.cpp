@@ -19,20 +19,17 @@ SceneBody& Scene::add(const std::string& name, const Body& body, const Material&
   if (name.empty()) throw InvalidInput("a body needs a non-empty name");
   if (contains(name)) throw InvalidInput("body name '" + name + "' is used twice");
   material.validate();
+  index_.emplace(name, bodies_.size());
   bodies_.push_back({name, body, material, false, "", SmoothSurface()});
   return bodies_.back();
 }
 
-bool Scene::contains(const std::string& name) const {
-  for (const SceneBody& b : bodies_)
-    if (b.name == name) return true;
-  return false;
-}
+bool Scene::contains(const std::string& name) const { return index_.contains(name); }
 
 const SceneBody& Scene::get(const std::string& name) const {
-  for (const SceneBody& b : bodies_)
-    if (b.name == name) return b;
-  throw InvalidInput("no body named '" + name + "'");
+  const auto it = index_.find(name);
+  if (it == index_.end()) throw InvalidInput("no body named '" + name + "'");
+  return bodies_[it->second];
 }
 
 std::vector<const SceneBody*> Scene::visible_bodies() const {

@@ -406,7 +406,8 @@ void Roberts::surface_joins() {
   // inside one flat region: a non-convex or holed face of the surface, cut into convex
   // two-sided faces, as an edge between coplanar faces of a solid is no edge of the drawing),
   // or, with a crease angle, when their normals turn by at most that angle (line classes, as
-  // classify_edges does for a solid). Boundary edges and creases stay sharp. Cost O(E log E).
+  // classify_edges does for a solid). Boundary edges and creases stay sharp. Either way the
+  // edge is drawn once, by the first of the two faces (HlrBody::twin). Cost O(E log E).
   struct Key {
     std::array<double, 6> ends;
     int body, edge;
@@ -446,11 +447,13 @@ void Roberts::surface_joins() {
   const auto normal = [&](int b) { return Vec3(-bodies_[static_cast<size_t>(b)].inner_normal(0).normalized()); };
   const double cos_crease =
       options_.crease_angle > 0 ? std::cos(options_.crease_angle * std::numbers::pi / 180) : 2.0;
-  const auto mark = [&](const Key& k, bool twin) {
+  const auto mark = [&](const Key& k, bool twin, bool smooth) {
     HlrBody& bd = data_[static_cast<size_t>(k.body)];
     const size_t edges = static_cast<size_t>(bodies_[static_cast<size_t>(k.body)].edge_count());
-    if (bd.classes.empty()) bd.classes.assign(edges, EdgeClass::Sharp);
-    bd.classes[static_cast<size_t>(k.edge)] = EdgeClass::Smooth;
+    if (smooth) {
+      if (bd.classes.empty()) bd.classes.assign(edges, EdgeClass::Sharp);
+      bd.classes[static_cast<size_t>(k.edge)] = EdgeClass::Smooth;
+    }
     if (twin) {
       if (bd.twin.empty()) bd.twin.assign(edges, 0);
       bd.twin[static_cast<size_t>(k.edge)] = 1;
@@ -462,12 +465,12 @@ void Roberts::surface_joins() {
     }
     // Exactly two faces on the edge, in opposite directions.
     if (j - i != 2 || keys[i].forward == keys[i + 1].forward || keys[i].body == keys[i + 1].body) continue;
+    // The edge is one line of the drawing: the second face leaves it to the first.
     const bool flat = coplanar(keys[i].body, keys[i + 1].body);
-    if (!flat && !(normal(keys[i].body).dot(normal(keys[i + 1].body)) >= cos_crease)) continue;
-    any_crease_join = any_crease_join || !flat;
-    // The edge is one line of the drawing: the second face leaves it to the first (--smooth).
-    mark(keys[i], false);
-    mark(keys[i + 1], true);
+    const bool smooth = flat || normal(keys[i].body).dot(normal(keys[i + 1].body)) >= cos_crease;
+    any_crease_join = any_crease_join || (smooth && !flat);
+    mark(keys[i], false, smooth);
+    mark(keys[i + 1], true, smooth);
   }
   if (any_crease_join) surface_outline(sided);
 }
@@ -875,9 +878,11 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     // tests below (the exact coplanarity test of a million nearly coplanar facets cost a sixth
     // of hidden lines on a tessellated sphere).
     const bool smooth = !bd.classes.empty() && bd.classes[static_cast<size_t>(e)] == EdgeClass::Smooth;
+    // An edge two faces of an open surface share is one edge: counted and drawn once, by the
+    // first face (the second, its twin, would find the same parts: each face's edges lie on
+    // the other's boundary, which hides nothing).
+    if (!bd.twin.empty() && bd.twin[static_cast<size_t>(e)]) continue;
     if (smooth) {
-      // An edge two faces of an open surface share is one edge: counted and drawn once.
-      if (!bd.twin.empty() && bd.twin[static_cast<size_t>(e)]) continue;
       ++out.stats.smooth_edges;
       if (!options_.smooth) continue;
     }

@@ -82,7 +82,10 @@ void Roberts::merge_coincident() {
         const Edge& y = b.edges()[static_cast<size_t>(eb)];
         const Vec3 &b0 = b.vertices()[static_cast<size_t>(y.v0)], &b1 = b.vertices()[static_cast<size_t>(y.v1)];
         if (!box_a.intersects(Eigen::AlignedBox3d(b0.cwiseMin(b1), b0.cwiseMax(b1)))) continue;
-        if (!collinear(a0, a1, b0) || !collinear(a0, a1, b1)) continue;
+        // An end of the edge is on its line without the predicate (whose filter cannot settle a
+        // repeated point: exact arithmetic, for every edge faces of an open surface share).
+        const auto on_line = [&](const Vec3& p) { return p == a0 || p == a1 || collinear(a0, a1, p); };
+        if (!on_line(b0) || !on_line(b1)) continue;
         parent[static_cast<size_t>(find(offset[static_cast<size_t>(i)] + ea))] = find(offset[static_cast<size_t>(j)] + eb);
         any = true;
       }
@@ -131,7 +134,7 @@ const ExactPlane& Roberts::built_face_plane(int b, int f) const {
   const HlrBody& bd = data_[static_cast<size_t>(b)];
   const int slot = bd.plane_slot.empty() ? -1 : bd.plane_slot[static_cast<size_t>(f)];
   HEDRA_ASSERT(slot >= 0, "junction lines: a face plane that junctions() did not build");
-  return bd.planes[static_cast<size_t>(slot)];
+  return (*bd.planes)[static_cast<size_t>(slot)];
 }
 
 const ExactPlane& Roberts::face_plane(int b, int f) {
@@ -139,14 +142,61 @@ const ExactPlane& Roberts::face_plane(int b, int f) {
   if (bd.plane_slot.empty()) bd.plane_slot.assign(static_cast<size_t>(bodies_[static_cast<size_t>(b)].face_count()), -1);
   int& slot = bd.plane_slot[static_cast<size_t>(f)];
   if (slot < 0) {
-    slot = static_cast<int>(bd.planes.size());
-    bd.planes.push_back(exact_face_plane(bodies_[static_cast<size_t>(b)], f));
+    if (!bd.planes) bd.planes = std::make_unique<std::deque<ExactPlane>>();
+    slot = static_cast<int>(bd.planes->size());
+    bd.planes->push_back(exact_face_plane(bodies_[static_cast<size_t>(b)], f));
   }
-  return bd.planes[static_cast<size_t>(slot)];
+  return (*bd.planes)[static_cast<size_t>(slot)];
 }
 
+namespace {
+
+// Whether the two-sided faces a and b may cross along a junction line. Not when one lies on one
+// closed side of the other's plane: a ∩ b then lies on an edge or vertex of one of them, which
+// is drawn as that face's edge. Not when they share a corner (neighbours on one surface): two
+// faces of a surface that does not pass through itself meet only in their common edge or
+// corner, drawn already (a surface that does pass through itself at a shared corner gets no
+// junction line there). This settles the faces of an open surface against their neighbours
+// (about 12 per triangle of a mesh) in a few comparisons and exact orientations each, instead
+// of the exact junction construction. Cost O(|a|·|b|).
+bool two_sided_faces_cross(const Body& a, const Body& b) {
+  for (const Vec3& p : a.vertices())
+    for (const Vec3& q : b.vertices())
+      if (p == q) return false;
+  const auto separates = [](const Body& x, const Body& y) {
+    const auto& s = x.support(0);
+    const auto& v = x.vertices();
+    const Vec3 &p = v[static_cast<size_t>(s[0])], &q = v[static_cast<size_t>(s[1])], &r = v[static_cast<size_t>(s[2])];
+    bool pos = false, neg = false;
+    for (const Vec3& w : y.vertices()) {
+      const Sign side = orient3d(p, q, r, w);
+      pos = pos || side == Sign::Positive;
+      neg = neg || side == Sign::Negative;
+      if (pos && neg) return true;
+    }
+    return false;
+  };
+  return separates(a, b) && separates(b, a);
+}
+
+}  // namespace
+
 void Roberts::junctions() {
-  const std::vector<std::pair<int, int>>& pairs = touching_pairs();
+  // Pairs of bodies whose boxes meet, less the pairs of two-sided faces that do not cross.
+  std::vector<std::pair<int, int>> pairs = touching_pairs();
+  {
+    std::vector<char> keep(pairs.size(), 1);
+    parallel_chunks(pairs.size(), 4096, [&](size_t, size_t begin, size_t end) {
+      for (size_t k = begin; k != end; ++k) {
+        const Body &a = bodies_[static_cast<size_t>(pairs[k].first)], &b = bodies_[static_cast<size_t>(pairs[k].second)];
+        keep[k] = !(a.two_sided() && b.two_sided()) || two_sided_faces_cross(a, b);
+      }
+    });
+    size_t n = 0;
+    for (size_t k = 0; k < pairs.size(); ++k)
+      if (keep[k]) pairs[n++] = pairs[k];
+    pairs.resize(n);
+  }
   if (pairs.empty()) return;
   const bool brute = options_.stage2 == HlrOptions::Stage2::BruteForce;
   // Faces facing strictly away of each convex body: junctions on them are hidden by the body.

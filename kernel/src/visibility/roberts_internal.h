@@ -164,7 +164,9 @@ struct HlrBody {
   std::vector<EdgeClass> classes;  // per edge; empty: every edge sharp (crease angle 0)
   bool any_smooth = false;
   std::vector<Facing> facing;
-  std::deque<ExactPlane> planes;   // exact face planes (junctions), built on demand (stable)
+  // Exact face planes (junctions), built on demand (a deque: stable). Allocated on first use:
+  // an empty std::deque takes about 600 bytes, a body of an open surface of a million faces.
+  std::unique_ptr<std::deque<ExactPlane>> planes;
   std::vector<int> plane_slot;     // per face: its index in planes, −1 not built yet
   InputPlanes input_planes;        // a non-convex body: its decomposition's exact planes
   // A non-convex body occluding by its faces (Occluders::Faces): its pieces are the triangles
@@ -172,8 +174,8 @@ struct HlrBody {
   bool faceted = false;
   // faceted, with outlines: per vertex, the faces around it (outline_of's neighbourhood).
   std::vector<std::vector<int>> vertex_faces;
-  // A two-sided face of an open surface (surface_joins): per edge, 1 where the face across a
-  // smooth shared edge draws it (with --smooth; empty: none); its part of the surface's
+  // A two-sided face of an open surface (surface_joins): per edge, 1 where the face across the
+  // shared edge draws it (empty: none); its part of the surface's
   // outline; and the faces within two rings of it, which do not hide that part.
   std::vector<char> twin;
   std::vector<OutlineSegment> surface_outline;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "hedra/core/body.h"
@@ -64,10 +65,12 @@ struct ImageSettings {
 /// \endcode
 class Scene {
  public:
-  /// Adds a body under a new name and returns it for chained settings.
-  /// \throw InvalidInput when the name is empty or already used.
+  /// Adds a body under a new name and returns it for chained settings (its name is fixed: the
+  /// scene finds bodies by it). \throw InvalidInput when the name is empty or already used.
+  /// Cost O(1) expected (names are hashed: an open surface of a million faces adds a million
+  /// bodies).
   SceneBody& add(const std::string& name, const Body& body, const Material& material = {});
-  /// \throw InvalidInput when there is no body of that name.
+  /// \throw InvalidInput when there is no body of that name. Cost O(1) expected.
   const SceneBody& get(const std::string& name) const;
   bool contains(const std::string& name) const;
   const std::vector<SceneBody>& bodies() const { return bodies_; }
@@ -84,6 +87,7 @@ class Scene {
 
  private:
   std::vector<SceneBody> bodies_;
+  std::unordered_map<std::string, size_t> index_;  // name → position in bodies_
 };
 
 }  // namespace hedra
