@@ -183,6 +183,32 @@ def write_mesh(hedra, work):
     return path, len(tris)
 
 
+# Open terrains: n x n cells of two triangles (quick: 80 000 triangles; full: also 980 000).
+TERRAIN_CELLS = [200, 700]
+
+
+def write_terrain(work, n):
+    """An open height-field terrain over [-4, 4]^2 of n x n cells, each two triangles: two hills
+    and a ripple, every triangle a face of its own (no two exactly coplanar), as OFF. Open: hlr,
+    shadows and render take it as two-sided faces (docs/io.md)."""
+    import math
+    path = os.path.join(work, f"terrain{n}.off")
+    with open(path, "w") as f:
+        f.write(f"OFF\n{(n + 1) ** 2} {2 * n * n} 0\n")
+        for j in range(n + 1):
+            for i in range(n + 1):
+                x, y = -4 + 8 * i / n, -4 + 8 * j / n
+                z = (0.8 * math.exp(-((x - 1) ** 2 + (y - 0.7) ** 2) / 1.4)
+                     + 0.5 * math.exp(-((x + 1.6) ** 2 + (y + 1.3) ** 2) / 0.9) + 0.12 * math.sin(1.5 * x))
+                f.write(f"{x:.17g} {y:.17g} {z:.17g}\n")
+        at = lambda i, j: j * (n + 1) + i
+        for j in range(n):
+            for i in range(n):
+                f.write(f"3 {at(i, j)} {at(i + 1, j)} {at(i + 1, j + 1)}\n")
+                f.write(f"3 {at(i, j)} {at(i + 1, j + 1)} {at(i, j + 1)}\n")
+    return path
+
+
 def main():
     hedra, results = sys.argv[1], sys.argv[2]
     quick = "--quick" in sys.argv
@@ -207,6 +233,18 @@ def main():
             for n in STAR_POINTS:
                 entries.append(measure_star(hedra, n, work))
                 save(out_path, quick, entries)
+        for n in TERRAIN_CELLS[:1] if quick else TERRAIN_CELLS:
+            if only and only != f"terrain{n}":
+                continue
+            mesh = write_terrain(work, n)
+            path = os.path.join(work, f"terrain_scene{n}.json")
+            with open(path, "w") as f:
+                json.dump({"version": 1, "bodies": [{"name": "terrain", "mesh": os.path.basename(mesh)}],
+                           "camera": CAMERA, "lights": LIGHTS, "image": IMAGE}, f)
+            e = measure_case(hedra, "terrain", n, path, work, MESH_TIMEOUT_S)
+            e["triangles"] = 2 * n * n
+            entries.append(e)
+            save(out_path, quick, entries)
         if not quick and (not only or only.startswith("mesh")):
             try:
                 mesh, triangles = write_mesh(hedra, work)
