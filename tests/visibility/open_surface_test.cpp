@@ -477,6 +477,39 @@ TEST(OpenSurfaceHiddenLines, CrossingSurfacesMeetInAJunctionNeighboursDoNot) {
   EXPECT_NEAR(cone.length(LineKind::Edge), 12 * 2 * std::sin(kPi / 12), 1e-12);
 }
 
+TEST(OpenSurfaceHiddenLines, SurfaceReachingBehindAPerspectiveEyeIsClippedAtTheNearPlane) {
+  // Bug: a perspective eye standing over an open surface (a camera on a terrain) failed with
+  // "a body needs at least 4 vertices": the near-plane split took each two-sided face for a
+  // solid. A V valley z = 0.1·|x| over [−10, 10]², two faces meeting in the valley line x = 0,
+  // seen from the eye (0, −5, 1) looking down the valley: everything in front of the near plane
+  // is visible (every ray to the surface stays above it: z − 0.1·|x| = 1 − t along the ray to
+  // a point of it). By hand: the far edge (two segments √101 long), the sides x = ±10 at z = 1
+  // and the valley line from the near plane to y = 10; the cut along the near plane is no line.
+  PolygonSoup soup;
+  soup.vertices = {{-10, -10, 1}, {0, -10, 0}, {0, 10, 0}, {-10, 10, 1}, {10, -10, 1}, {10, 10, 1}};
+  soup.polygons = {{0, 1, 2, 3}, {1, 4, 5, 2}};
+  const std::vector<Body> faces = two_sided_faces(soup);
+  ASSERT_EQ(faces.size(), 2u);
+  const Camera camera = Camera::perspective({0, -5, 1}, {0, 5, 0}, 60);
+  Eigen::AlignedBox3d box(Vec3(-10, -10, 0), Vec3(10, 10, 1));
+  const Plane near = camera.near_plane(box);
+  // Where the near plane meets the line (x, y, z) for y free: value(x, 0, z) + y·n_y = 0.
+  const auto y_near = [&](double x, double z) { return -near.value(Vec3(x, 0, z)) / near.normal().y(); };
+  const double sides = 2 * (10 - y_near(10, 1)), valley = 10 - y_near(0, 0), far = 2 * std::sqrt(101.0);
+  HlrOptions options;
+  options.crease_angle = 5;  // the faces turn by 2·atan(0.1) = 11.4°: the valley is sharp
+  const HlrResult sharp = hidden_lines(faces, camera, options);
+  EXPECT_NEAR(sharp.length(LineKind::Edge), far + sides + valley, 1e-9);
+  options.crease_angle = 30;  // smooth: the valley is not drawn, and not twice
+  const HlrResult smooth = hidden_lines(faces, camera, options);
+  EXPECT_NEAR(smooth.length(LineKind::Edge), far + sides, 1e-9);
+  for (const HlrResult* r : {&sharp, &smooth})
+    for (const HlrSegment& s : r->visible) {
+      EXPECT_GE(near.value(s.a), -1e-12);
+      EXPECT_GE(near.value(s.b), -1e-12);
+    }
+}
+
 // ---- Shadows: a terrain-like open grid over a ground slab ----
 
 TEST(OpenSurfaceShadows, TerrainShadowOnGroundEqualsCgalUnionOfProjectedTriangles) {

@@ -7,6 +7,7 @@
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/core/error.h"
 #include "hedra/core/predicates.h"
+#include "hedra/core/tolerance.h"
 #include "hedra/decompose/split.h"
 #include "visibility/roberts_internal.h"
 
@@ -71,6 +72,52 @@ std::string body_name(std::span<const std::string> names, size_t b) {
   return names.empty() ? "body " + std::to_string(b) : "body '" + names[b] + "'";
 }
 
+// The part of a two-sided face (an open surface's) strictly in front of the near plane, as
+// two-sided faces: its convex polygon clipped by the plane, each corner's side decided exactly
+// (corners on the plane kept), each crossing interpolated from the edge's end points in
+// lexicographic order, so that the faces sharing an edge get the same point and the edge stays
+// one edge of the surface. The crossings are rounded: the polygon is planar within
+// kRoundingPlanarity of the face's scale; where rounding leaves it not strictly convex, its
+// fan of triangles. None when no part in front has area. Cost O(corners).
+std::vector<Body> face_in_front(const Body& face, const Plane& near) {
+  const std::vector<Vec3>& v = face.vertices();
+  const std::vector<int>& loop = face.faces()[0].loops[0];
+  const size_t n = loop.size();
+  std::vector<Vec3> kept;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3& p = v[static_cast<size_t>(loop[i])];
+    const Vec3& q = v[static_cast<size_t>(loop[(i + 1) % n])];
+    const Sign sp = side_of_plane(near, p), sq = side_of_plane(near, q);
+    if (sp != Sign::Negative) kept.push_back(p);
+    if ((sp == Sign::Positive && sq == Sign::Negative) || (sp == Sign::Negative && sq == Sign::Positive)) {
+      const bool forward = std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3);
+      const Vec3& a = forward ? p : q;
+      const Vec3& b = forward ? q : p;
+      const double da = near.value(a), db = near.value(b);
+      kept.push_back(a + (da / (da - db)) * (b - a));
+    }
+  }
+  std::vector<Vec3> polygon;
+  for (const Vec3& p : kept)
+    if (polygon.empty() || p != polygon.back()) polygon.push_back(p);
+  while (polygon.size() > 1 && polygon.front() == polygon.back()) polygon.pop_back();
+  if (polygon.size() < 3) return {};
+  const double planarity = kRoundingPlanarity * face.scale();
+  try {
+    return {Body::two_sided_polygon(polygon, planarity)};
+  } catch (const InvalidInput&) {
+  }
+  std::vector<Body> out;
+  for (size_t i = 1; i + 1 < polygon.size(); ++i) {
+    try {
+      out.push_back(Body::two_sided_polygon({polygon[0], polygon[i], polygon[i + 1]}));
+    } catch (const InvalidInput&) {
+      // no area: nothing of the face there
+    }
+  }
+  return out;
+}
+
 // The drawing of the bodies ∩ the near half-space of a perspective camera (camera.h's
 // near_plane, the renderer's): bodies that reach the near plane are split by it exactly
 // (hedra/decompose/split.h) and only their parts in front are drawn and hide; the cut itself
@@ -116,7 +163,7 @@ HlrResult clipped_hidden_lines(std::span<const Body> bodies, std::span<const std
   for (size_t b = 0; b < bodies.size(); ++b) {
     std::vector<Body> parts;
     if (cut[b])
-      parts = split(bodies[b], near).above;
+      parts = bodies[b].two_sided() ? face_in_front(bodies[b], near) : split(bodies[b], near).above;
     else
       parts.push_back(bodies[b]);
     for (Body& p : parts) {
