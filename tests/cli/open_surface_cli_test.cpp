@@ -241,6 +241,37 @@ TEST(OpenSurfaceCli, SceneFileCombinesAnOpenTerrainWithASolidAndALight) {
   fs::remove_all(dir);
 }
 
+// Bug: a camera standing on the terrain (a perspective eye over it, the terrain reaching behind
+// it) failed in hlr, render --lines and shadows --svg with "a body needs at least 4 vertices".
+// Now each command draws; no drawn point lies behind the eye (its depth along the view is
+// positive), and the box in front of the eye is drawn.
+TEST(OpenSurfaceCli, CameraStandingOnTheTerrainDrawsEveryCommand) {
+  const fs::path dir = hedra::testing::temp_dir("open_surface_eye_cli");
+  hedra::testing::write(dir / "terrain.off", terrain_off());
+  const std::string scene = hedra::testing::write(
+      dir / "scene.json",
+      terrain_scene(R"({"projection": "perspective", "eye": [0, -2.5, 0.4], "target": [0, 3, 0.3], "fov_deg": 70})"));
+  auto r = run_hedra("hlr " + scene + " -o " + (dir / "h.svg").string() + " --json " + (dir / "h.json").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json h = nlohmann::json::parse(read(dir / "h.json"));
+  const double eye[3] = {0, -2.5, 0.4}, view[3] = {0, 5.5, -0.1};
+  int box = 0;
+  for (const auto& s : h["visible"]) {
+    for (int k = 0; k < 2; ++k) {
+      double depth = 0;
+      for (int c = 0; c < 3; ++c) depth += (s[3 * k + c].get<double>() - eye[c]) * view[c];
+      EXPECT_GT(depth, 0) << s;
+    }
+    box += s[2].get<double>() >= 0.5 && s[5].get<double>() >= 0.5;
+  }
+  EXPECT_GT(box, 4);
+  r = run_hedra("shadows " + scene + " --svg " + (dir / "s.svg").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run_hedra("render " + scene + " --lines -o " + (dir / "r.png").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  fs::remove_all(dir);
+}
+
 // `--tolerance D` on an open surface: a grid of 10 × 10 cells of two triangles over [0, 5]² on
 // the plane z = 0.3x + 0.2y, its vertices moved by up to 1e-9 along z.
 std::string noisy_grid_off() {
