@@ -302,6 +302,9 @@ void Roberts::prepare_bodies() {
         const Body& piece = *p.piece;
         if (bd.convex && p.face < 0) {
           if (!brute && piece.face_count() >= kLargePieceFaces) p.large = std::make_unique<LargeConvex>();
+          // A two-sided face (an open surface's): built on first use, as a front triangle's.
+          // The boundary and outline of a surface of a million faces meet few of them.
+          else if (!brute && piece.two_sided()) p.deferred = true;
           else build_volume(p);
         } else {
           piece_facing.clear();
@@ -330,6 +333,10 @@ const OcclusionVolume& Roberts::volume(const HlrPiece& p) const {
   if (p.large) std::call_once(p.large->volume_once, [&] { build_volume(p); });
   if (p.deferred)
     std::call_once(deferred_once_[static_cast<size_t>(&p - pieces_.data())], [&] {
+      if (p.piece) {
+        build_volume(p);  // a two-sided face
+        return;
+      }
       p.volume = triangle_occlusion_volume(p.triangle, triangle_plane(p.triangle), view_);
       p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
     });

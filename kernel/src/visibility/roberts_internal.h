@@ -132,9 +132,10 @@ struct HlrPiece {
   // only if an exact path asks for it.
   mutable OcclusionVolume volume;
   mutable std::unique_ptr<LargeConvex> large;
-  // A triangle turned to the viewpoint whose volume is built on first use (Roberts::volume):
-  // a line drawing of a million-face mesh clips against few of its half million front
-  // triangles (sharp edges and outlines only), and building them all cost about 400 MB.
+  // A triangle turned to the viewpoint, or a two-sided face of an open surface, whose volume is
+  // built on first use (Roberts::volume): a line drawing of a million-face mesh clips against
+  // few of its half million front triangles (sharp edges and outlines only), and building them
+  // all cost about 400 MB.
   bool deferred = false;
   std::vector<ExactPlane> faces;  // for the brute-force path
   // Pieces of a non-convex body: the canonical planes (Decomposition::piece_planes) of the
