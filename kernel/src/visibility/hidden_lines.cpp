@@ -11,6 +11,7 @@
 #include "hedra/core/tolerance.h"
 #include "hedra/decompose/decompose.h"
 #include "hedra/mesh/convexity.h"
+#include "visibility/contour.h"
 #include "visibility/model_incidence.h"
 #include "visibility/roberts_internal.h"
 
@@ -551,20 +552,15 @@ void Roberts::surface_outline(const std::vector<int>& sided) {
         (g[i] >= 0 ? pos : neg) = true;
       }
       if (!pos || !neg) continue;
-      // The fan from corner 0; a crossing on a side is interpolated from the end with the
-      // smaller point id, so the face across the side gets the same point.
+      // The fan from corner 0; crossings from the end with the smaller point id, so the face
+      // across a side gets the same point (contour_segment, as outline() for a solid).
       std::vector<OutlineSegment>& out = data_[static_cast<size_t>(sided[s])].surface_outline;
       for (size_t t = 1; t + 1 < k; ++t) {
-        const size_t c[3] = {0, t, t + 1};
+        const Vec3* corner[3] = {&p[0], &p[t], &p[t + 1]};
+        const double gt[3] = {g[0], g[t], g[t + 1]};
+        const int id[3] = {ids[0], ids[t], ids[t + 1]};
         Vec3 ends[2];
-        int m = 0;
-        for (int e = 0; e < 3; ++e) {
-          size_t i = c[e], j = c[(e + 1) % 3];
-          if ((g[i] >= 0) == (g[j] >= 0)) continue;
-          if (ids[j] < ids[i]) std::swap(i, j);
-          ends[m++] = p[i] + (g[i] / (g[i] - g[j])) * (p[j] - p[i]);
-        }
-        if (m == 2) out.push_back({ends[0], ends[1], 0});
+        if (contour_segment(corner, gt, id, ends)) out.push_back({ends[0], ends[1], 0});
       }
       has[s] = !out.empty();
     }

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "hedra/core/parallel.h"
+#include "visibility/contour.h"
 
 namespace hedra {
 namespace {
@@ -279,25 +280,14 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
       }
       if (flat) continue;
       double g[3];
-      bool positive[3];
+      const Vec3* corner[3];
       for (int k = 0; k < 3; ++k) {
-        const Vec3& p = v[static_cast<size_t>(t.v[k])];
-        g[k] = singular[static_cast<size_t>(t.v[k])] ? 0.0 : n[k].dot(view.ray_to(p));
-        positive[k] = g[k] >= 0;
+        corner[k] = &v[static_cast<size_t>(t.v[k])];
+        g[k] = singular[static_cast<size_t>(t.v[k])] ? 0.0 : n[k].dot(view.ray_to(*corner[k]));
       }
-      if (positive[0] == positive[1] && positive[1] == positive[2]) continue;
-      // The two sides whose ends differ in sign; each crossing is interpolated from the end with
-      // the smaller vertex index, so that the neighbour across the side gets the same point.
+      // Crossings from the end with the smaller vertex index: the neighbour gets the same point.
       Vec3 ends[2];
-      int m = 0;
-      for (int k = 0; k < 3; ++k) {
-        int i = k, j = (k + 1) % 3;
-        if (positive[i] == positive[j]) continue;
-        if (t.v[j] < t.v[i]) std::swap(i, j);
-        const Vec3 &pi = v[static_cast<size_t>(t.v[i])], &pj = v[static_cast<size_t>(t.v[j])];
-        ends[m++] = pi + (g[i] / (g[i] - g[j])) * (pj - pi);
-      }
-      out.push_back({ends[0], ends[1], t.face});
+      if (internal::contour_segment(corner, g, t.v.data(), ends)) out.push_back({ends[0], ends[1], t.face});
     }
   });
   std::vector<OutlineSegment> out;
