@@ -60,7 +60,7 @@ SolidClipper solid_clipper(const std::string& path, const std::vector<NamedBody>
   list.reserve(bodies.size());
   for (const NamedBody& named : bodies) {
     if (named.body.two_sided())
-      throw InvalidInput(path + ": body '" + named.name + "': a two-sided polygon has no interior "
+      throw InvalidInput(path + ": body '" + named.name + "': an open surface (two-sided) has no interior "
                          "to clip against");
     list.push_back(named.body);
   }

@@ -5,7 +5,6 @@
 
 #include <filesystem>
 #include <iomanip>
-#include <set>
 
 #include "cli/usage.h"
 #include "hedra/io/mesh_io.h"
@@ -139,32 +138,16 @@ std::optional<OpenSurface> open_surface(const std::string& path) {
   for (const auto& poly : soup.polygons)
     for (int v : poly)
       if (v < 0 || static_cast<size_t>(v) >= soup.vertices.size()) return std::nullopt;
-  std::set<std::pair<int, int>> directed, undirected;
-  for (const auto& poly : soup.polygons)
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const int a = poly[i], b = poly[(i + 1) % poly.size()];
-      directed.emplace(a, b);
-      undirected.emplace(std::min(a, b), std::max(a, b));
-    }
+  const SurfaceSummary summary = summarize_surface(soup);
   OpenSurface out;
   out.name = std::filesystem::path(path).stem().string();
   out.vertices = static_cast<int>(soup.vertices.size());
-  out.faces = static_cast<int>(soup.polygons.size());
-  out.edges = static_cast<int>(undirected.size());
-  for (const auto& poly : soup.polygons) {
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const int a = poly[i], b = poly[(i + 1) % poly.size()];
-      if (directed.count({b, a})) continue;
-      if (out.boundary_edges++ == 0) out.first_a = a, out.first_b = b;
-    }
-    Vec3 n = Vec3::Zero();  // Newell's area vector
-    for (size_t i = 0; i < poly.size(); ++i) {
-      const Vec3& p = soup.vertices.at(poly[i]);
-      const Vec3& q = soup.vertices.at(poly[(i + 1) % poly.size()]);
-      n += p.cross(q);
-    }
-    out.area += n.norm() / 2;
-  }
+  out.faces = summary.faces;
+  out.edges = summary.edges;
+  out.boundary_edges = summary.boundary.boundary_edges;
+  out.first_a = summary.boundary.first_from;
+  out.first_b = summary.boundary.first_to;
+  out.area = summary.area;
   if (out.boundary_edges == 0) return std::nullopt;
   return out;
 }
@@ -204,20 +187,16 @@ Scene load_scene(const std::string& path) {
   } catch (const InvalidInput&) {
     // An open surface (a scan, a terrain, a single face) is not a solid, but hidden lines,
     // shadows and rendering take it as two-sided convex faces (hedra/mesh/open_surface.h),
-    // one scene body per face, named <stem>.f<i>.
+    // one scene body of them all (Body::two_sided_surface), named <stem>.
     // Taken as a surface when it has boundary edges and each directed edge once (consistently
     // oriented, no edge shared by three faces); a flipped face of a solid stays an error.
     const PolygonSoup soup = io::read_soup(path);
     if (!is_open_surface(soup)) throw;
-    std::vector<Body> faces;
     try {
-      faces = two_sided_faces(soup, import_tolerance);
+      bodies.push_back({std::filesystem::path(path).stem().string(), two_sided_surface(soup, import_tolerance), ""});
     } catch (const InvalidInput& inner) {
       throw InvalidInput(path + ": open surface: " + inner.what());
     }
-    const std::string stem = std::filesystem::path(path).stem().string();
-    for (size_t i = 0; i < faces.size(); ++i)
-      bodies.push_back({stem + ".f" + std::to_string(i), faces[i], ""});
   }
   for (const NamedBody& nb : bodies) scene.add(nb.name, nb.body);
   scene.camera = Camera::parallel({-1, -2, -1.5}, {0, 0, 1});

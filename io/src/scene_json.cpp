@@ -475,8 +475,8 @@ class SceneReader {
   }
 
   // Adds an open surface (a "mesh" or "polyhedron" body that is not closed, `why` being the
-  // error that says so) as its two-sided faces, scene bodies <name>.f<i>, and its record;
-  // `tolerance`: two_sided_faces'.
+  // error that says so) as one two-sided body of its faces (two_sided_surface), named as the
+  // surface, and its record; `tolerance`: two_sided_surface's.
   void add_surface(const JsonValue& b, const std::string& name, const JsonValue& s,
                    PolygonSoup soup, const Transform& t, const std::string& why, double tolerance,
                    Scene& scene) {
@@ -502,22 +502,16 @@ class SceneReader {
     record.first_from = summary.boundary.first_from;
     record.first_to = summary.boundary.first_to;
     record.area = summary.area;
-    std::vector<Body> faces;
+    std::optional<Body> surface;
     try {
-      faces = two_sided_faces(soup, tolerance);
+      surface = two_sided_surface(soup, tolerance);
     } catch (const InvalidInput& e) {
       fail(s, std::string("open surface: ") + e.what());
     }
     const Material material = b.find("material") ? read_material(*b.find("material")) : Material();
     const bool hidden = b.find("hidden") && flag(*b.find("hidden"), "'hidden'");
-    for (size_t i = 0; i < faces.size(); ++i) {
-      const std::string face_name = name + ".f" + std::to_string(i);
-      if (taken(face_name, scene))
-        fail(member(b, "name"), "body name '" + face_name + "' (a face of the open surface '" + name +
-                                    "') is used twice");
-      SceneBody& added = scene.add(face_name, faces[i], material);
-      added.hidden = hidden;
-    }
+    SceneBody& added = scene.add(name, *surface, material);
+    added.hidden = hidden;
     scene.surfaces.push_back(std::move(record));
   }
 
@@ -526,13 +520,6 @@ class SceneReader {
     return path_ + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) + ": ";
   }
 
-  // A name is taken by a body or by an open surface (whose faces are the bodies).
-  static bool taken(const std::string& name, const Scene& scene) {
-    if (scene.contains(name)) return true;
-    for (const SceneSurface& s : scene.surfaces)
-      if (s.name == name) return true;
-    return false;
-  }
 
   // A primitive within the face budget; over it, the message adds how the tolerance was chosen
   // and how to allow more faces.
@@ -576,7 +563,7 @@ class SceneReader {
     if (b.kind != Kind::Object) fail(b, "a body must be an object");
     const std::string name = text(member(b, "name"), "'name'");
     if (name.empty()) fail(member(b, "name"), "'name' must not be empty");
-    if (taken(name, scene)) fail(member(b, "name"), "body name '" + name + "' is used twice");
+    if (scene.contains(name)) fail(member(b, "name"), "body name '" + name + "' is used twice");
     context_ = "body '" + name + "': ";
     std::string shape;
     const JsonValue& s = *shape_of(b, shape);
@@ -776,43 +763,17 @@ std::string format_scene(const Scene& scene) {
   nlohmann::ordered_json root;
   root["version"] = 1;
   nlohmann::ordered_json bodies = nlohmann::ordered_json::array();
-  // Two-sided faces (Body::two_sided_polygon) are written back as the open surface they came
-  // from: one "polyhedron" named after the surface, of every face's own polygon (face 0, its
-  // given orientation), vertices shared by exact value, which the reader takes as an open
-  // surface again. A two-sided body of no recorded surface (one added through the API) is
-  // written as a surface of its one polygon (read back, its body is <name>.f0).
-  const auto surface_of = [&](const std::string& name) -> const SceneSurface* {
-    for (const SceneSurface& s : scene.surfaces) {
-      const std::string prefix = s.name + ".f";
-      if (name.size() > prefix.size() && name.compare(0, prefix.size(), prefix) == 0 &&
-          name.find_first_not_of("0123456789", prefix.size()) == std::string::npos)
-        return &s;
-    }
-    return nullptr;
-  };
-  std::set<const SceneSurface*> written;
+  // A two-sided body (an open surface, Body::two_sided_surface, or one two-sided polygon) is
+  // written as a "polyhedron" of its front faces, which the reader takes as an open surface
+  // again.
   for (const SceneBody& sb : scene.bodies()) {
     nlohmann::ordered_json b;
     nlohmann::ordered_json vertices = nlohmann::ordered_json::array();
     nlohmann::ordered_json faces = nlohmann::ordered_json::array();
     if (sb.body.two_sided()) {
-      const SceneSurface* surface = surface_of(sb.name);
-      if (surface && !written.insert(surface).second) continue;
-      b["name"] = surface ? surface->name : sb.name;
-      std::map<std::array<double, 3>, int> index;
-      for (const SceneBody& other : scene.bodies()) {
-        if (surface ? surface_of(other.name) != surface : &other != &sb) continue;
-        if (!other.body.two_sided()) continue;
-        std::vector<int> polygon;
-        for (int v : other.body.faces()[0].loops[0]) {
-          const Vec3& p = other.body.vertices()[static_cast<size_t>(v)];
-          const auto [it, added] = index.emplace(std::array<double, 3>{p.x(), p.y(), p.z()},
-                                                 static_cast<int>(index.size()));
-          if (added) vertices.push_back({p.x(), p.y(), p.z()});
-          polygon.push_back(it->second);
-        }
-        faces.push_back(polygon);
-      }
+      b["name"] = sb.name;
+      for (const Vec3& p : sb.body.vertices()) vertices.push_back({p.x(), p.y(), p.z()});
+      for (int f = 0; f < sb.body.face_count() / 2; ++f) faces.push_back(sb.body.faces()[static_cast<size_t>(f)].loops[0]);
     } else {
       b["name"] = sb.name;
       for (const Vec3& p : sb.body.vertices()) vertices.push_back({p.x(), p.y(), p.z()});

@@ -254,8 +254,8 @@ namespace hedra {
 namespace {
 
 // An open surface (a roof of two slopes and a flat pentagon, inline) written by format_scene
-// comes back as the same open surface: the same face bodies, polygons and areas (it was written
-// as a closed flat polyhedron of both faces of each polygon, which no reader accepts).
+// comes back as the same open surface: the same two-sided body, polygons and areas (it was
+// written as a closed flat polyhedron of both faces of each polygon, which no reader accepts).
 TEST(SceneJson, OpenSurfacesAreWrittenBackAsOpenSurfaces) {
   const std::string text = R"({"version": 1, "bodies": [
     {"name": "roof", "polyhedron": {"vertices": [[0,0,0],[2,0,0],[2,2,1],[0,2,1],[2,4,0],[0,4,0]],
@@ -264,7 +264,9 @@ TEST(SceneJson, OpenSurfacesAreWrittenBackAsOpenSurfaces) {
                                      "faces": [[0,3,2,1],[4,5,6,7],[0,1,5,4],[1,2,6,5],[2,3,7,6],[3,0,4,7]]}}]})";
   const Scene a = io::parse_scene("roof.json", text);
   ASSERT_EQ(a.surfaces.size(), 1u);
-  ASSERT_EQ(a.bodies().size(), 3u);  // roof.f0, roof.f1, block
+  ASSERT_EQ(a.bodies().size(), 2u);  // roof (one two-sided surface of 2 faces), block
+  EXPECT_EQ(a.bodies()[0].name, "roof");
+  EXPECT_EQ(a.bodies()[0].body.face_count(), 4);
   const Scene b = io::parse_scene("again.json", io::format_scene(a));
   ASSERT_EQ(b.surfaces.size(), 1u);
   EXPECT_EQ(b.surfaces[0].name, "roof");
@@ -276,6 +278,7 @@ TEST(SceneJson, OpenSurfacesAreWrittenBackAsOpenSurfaces) {
     EXPECT_EQ(b.bodies()[i].name, a.bodies()[i].name);
     EXPECT_EQ(b.bodies()[i].body.two_sided(), a.bodies()[i].body.two_sided());
     EXPECT_EQ(b.bodies()[i].body.vertices(), a.bodies()[i].body.vertices());
+    EXPECT_EQ(b.bodies()[i].body.face_count(), a.bodies()[i].body.face_count());
   }
 }
 

@@ -25,6 +25,14 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
+// An open surface in both forms the kernel takes: a two-sided body per convex face
+// (two_sided_faces, as the API gives them) and one two-sided body of them all
+// (two_sided_surface, as scene and mesh files give them). Every drawing and shadow below must
+// come out the same from either.
+std::vector<std::pair<const char*, std::vector<Body>>> both_forms(const PolygonSoup& soup) {
+  return {{"a body per face", two_sided_faces(soup)}, {"one surface body", {two_sided_surface(soup)}}};
+}
+
 // ---- Two-sided faces ----
 
 TEST(TwoSidedPolygon, IsAFlatBodyOfTwoOppositeFaces) {
@@ -71,6 +79,61 @@ TEST(TwoSidedPolygon, SurvivesAGenericRotation) {
   // Not planar beyond rounding: still refused.
   EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 1e-9}, {0, 1, 0}}, 1e-10), InvalidInput);
   EXPECT_NO_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {1, 1, 1e-9}, {0, 1, 0}}, 1e-8));
+}
+
+// One two-sided body of a surface: both sides of every face, each shared edge on both sides,
+// each boundary edge joining a face to its other side; by hand for two squares meeting at a
+// right angle (an L-shaped sheet) and a flat square beside them.
+TEST(TwoSidedSurface, IsOneFlatBodyOfBothSidesOfEveryFace) {
+  const std::vector<Vec3> v = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 1}, {1, 1, 1},
+                               {2, 0, 0}, {2, 1, 0}, {9, 9, 9}};  // the last unused
+  const Body s = Body::two_sided_surface(v, {{0, 1, 2, 3}, {1, 4, 5, 2}});
+  EXPECT_TRUE(s.two_sided());
+  EXPECT_EQ(s.vertex_count(), 6) << "only used vertices";
+  EXPECT_EQ(s.face_count(), 4);
+  // 7 edges: 1 shared (on both sides: 2 copies) and 6 boundary.
+  EXPECT_EQ(s.edge_count(), 8);
+  int shared = 0, boundary = 0;
+  for (const Edge& e : s.edges()) {
+    if (e.left_face == s.twin_face(e.right_face)) {
+      ++boundary;
+    } else {
+      ++shared;
+      EXPECT_EQ(e.left_face < 2, e.right_face < 2) << "a shared edge stays on one side";
+    }
+  }
+  EXPECT_EQ(shared, 2);
+  EXPECT_EQ(boundary, 6);
+  EXPECT_EQ(s.twin_face(0), 2);
+  EXPECT_EQ(s.twin_face(3), 1);
+  EXPECT_DOUBLE_EQ(s.area(), 4);
+  EXPECT_EQ(s.volume(), 0);
+  EXPECT_NEAR(s.inner_normal(0).z(), -1, 1e-15);
+  EXPECT_NEAR(s.inner_normal(2).z(), 1, 1e-15);
+  EXPECT_EQ(s.classify({0.5, 0.5, 0}), Location::OnBoundary);
+  EXPECT_EQ(s.classify({0.5, 0.5, 0.5}), Location::Outside);
+  EXPECT_EQ(s.triangles().size(), 8u);
+  for (size_t t = 0; t < 4; ++t) EXPECT_LT(s.triangles()[t].face, 2) << "front side's triangles first";
+  // From either side of each face exactly one of it and its twin is Front.
+  const Viewpoint view = Viewpoint::towards(Vec3(0.3, 0.2, -1));
+  for (int f = 0; f < 2; ++f)
+    EXPECT_NE(facing(s, f, view) == Facing::Front, facing(s, s.twin_face(f), view) == Facing::Front);
+  // Moved (a reflection keeps each face its given way round), it stays one surface.
+  const Body m = s.rotated_x(30).scaled({-1, 1, 1});
+  EXPECT_TRUE(m.two_sided());
+  EXPECT_EQ(m.face_count(), 4);
+  EXPECT_NEAR(m.area(), 4, 1e-12);
+  // Refused: a non-convex face, an edge used twice one way, a vertex out of range.
+  EXPECT_THROW(Body::two_sided_surface(v, {{0, 1, 2, 3}, {6, 7, 2, 1, 4}}), InvalidInput);
+  EXPECT_THROW(Body::two_sided_surface(v, {{0, 1, 2, 3}, {1, 2, 7, 6}}), InvalidInput);
+  EXPECT_THROW(Body::two_sided_surface(v, {{0, 1, 12}}), InvalidInput);
+  // From a soup: vertices of equal coordinates are one, exactly coplanar neighbours one face.
+  PolygonSoup soup;
+  soup.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {1, 1, 0}, {0, 1, 0}, {1, 0, 0}, {2, 0, 1}};
+  soup.polygons = {{0, 1, 2}, {0, 3, 4}, {5, 6, 2}};
+  const Body joined = two_sided_surface(soup);
+  EXPECT_EQ(joined.face_count(), 4) << "the two flat triangles are one square";
+  EXPECT_EQ(joined.vertex_count(), 5);
 }
 
 // A flat grid of n × n cells of two triangles over [0, 5]² on the tilted plane
@@ -321,7 +384,8 @@ TEST(OpenSurfaceHiddenLines, BowlIsDrawnAsItsRimAndItsOutline) {
   // drawn: with the default crease angle of 30° every edge between two faces is smooth.
   const int m = 128, rings = 32;
   const PolygonSoup soup = bowl(m, rings);
-  std::vector<Body> faces = two_sided_faces(soup);
+  for (const auto& [form, faces] : both_forms(soup)) {
+  SCOPED_TRACE(form);
   const Vec3 d(1, 0, -1);
   const Camera camera = Camera::parallel(d);
   double rim = 0;
@@ -388,6 +452,7 @@ TEST(OpenSurfaceHiddenLines, BowlIsDrawnAsItsRimAndItsOutline) {
   const HlrResult all = hidden_lines(faces, camera, options);
   EXPECT_EQ(all.picture_length(LineKind::Outline), 0);
   EXPECT_GT(all.picture_length(LineKind::Edge), 10 * rim);
+  }
 }
 
 TEST(OpenSurfaceHiddenLines, RotatedTroughKeepsItsBoundaryAndValleyAsSharpEdges) {
@@ -411,8 +476,9 @@ TEST(OpenSurfaceHiddenLines, RotatedTroughKeepsItsBoundaryAndValleyAsSharpEdges)
       soup.polygons.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
       soup.polygons.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
     }
-  const std::vector<Body> faces = two_sided_faces(soup);
-  ASSERT_GT(faces.size(), 20u) << "rounding should keep most triangles apart";
+  ASSERT_GT(two_sided_faces(soup).size(), 20u) << "rounding should keep most triangles apart";
+  for (const auto& [form, faces] : both_forms(soup)) {
+  SCOPED_TRACE(form);
   const Camera camera = Camera::parallel(rot.apply_vector({0.1, 0.2, -1}), rot.apply_vector({0, 1, 0}));
   HlrOptions options;
   options.junctions = false;
@@ -450,6 +516,7 @@ TEST(OpenSurfaceHiddenLines, RotatedTroughKeepsItsBoundaryAndValleyAsSharpEdges)
   EXPECT_GT(smooth.size(), 100u);
   std::sort(smooth.begin(), smooth.end());
   EXPECT_EQ(std::adjacent_find(smooth.begin(), smooth.end()), smooth.end()) << "a smooth edge drawn twice";
+  }
 }
 
 TEST(OpenSurfaceHiddenLines, CrossingSurfacesMeetInAJunctionNeighboursDoNot) {
@@ -488,8 +555,9 @@ TEST(OpenSurfaceHiddenLines, SurfaceReachingBehindAPerspectiveEyeIsClippedAtTheN
   PolygonSoup soup;
   soup.vertices = {{-10, -10, 1}, {0, -10, 0}, {0, 10, 0}, {-10, 10, 1}, {10, -10, 1}, {10, 10, 1}};
   soup.polygons = {{0, 1, 2, 3}, {1, 4, 5, 2}};
-  const std::vector<Body> faces = two_sided_faces(soup);
-  ASSERT_EQ(faces.size(), 2u);
+  ASSERT_EQ(two_sided_faces(soup).size(), 2u);
+  for (const auto& [form, faces] : both_forms(soup)) {
+  SCOPED_TRACE(form);
   const Camera camera = Camera::perspective({0, -5, 1}, {0, 5, 0}, 60);
   Eigen::AlignedBox3d box(Vec3(-10, -10, 0), Vec3(10, 10, 1));
   const Plane near = camera.near_plane(box);
@@ -508,6 +576,7 @@ TEST(OpenSurfaceHiddenLines, SurfaceReachingBehindAPerspectiveEyeIsClippedAtTheN
       EXPECT_GE(near.value(s.a), -1e-12);
       EXPECT_GE(near.value(s.b), -1e-12);
     }
+  }
 }
 
 // ---- Shadows: a terrain-like open grid over a ground slab ----
@@ -526,8 +595,9 @@ TEST(OpenSurfaceShadows, TerrainShadowOnGroundEqualsCgalUnionOfProjectedTriangle
       soup.polygons.push_back({a, a + 1, a + n + 2});
       soup.polygons.push_back({a, a + n + 2, a + n + 1});
     }
-  const std::vector<Body> faces = two_sided_faces(soup);
+  for (const auto& [form, faces] : both_forms(soup))
   for (const Vec3& d : {Vec3(0.35, 0.2, -1), Vec3(-0.5, 0.3, -0.8), Vec3(0.1, -0.7, -0.6)}) {
+    SCOPED_TRACE(form);
     Scene scene;
     scene.add("ground", box({-6, -6, -1}, {10, 10, 0}));
     for (size_t i = 0; i < faces.size(); ++i) scene.add("t" + std::to_string(i), faces[i]);
@@ -553,11 +623,12 @@ TEST(OpenSurfaceShadows, TerrainShadowOnGroundEqualsCgalUnionOfProjectedTriangle
     EXPECT_NEAR(got, want, 1e-9 * want) << d.transpose();
     EXPECT_GT(want, 15);
     // Each terrain face: the side turned to the light receives, the other is self-shadowed.
-    for (size_t i = 0; i < faces.size(); ++i) {
-      const FaceShadow& f0 = r.face(0, static_cast<int>(i) + 1, 0);
-      const FaceShadow& f1 = r.face(0, static_cast<int>(i) + 1, 1);
-      EXPECT_NE(f0.self_shadowed(), f1.self_shadowed());
-    }
+    for (size_t i = 0; i < faces.size(); ++i)
+      for (int f = 0; f < faces[i].face_count() / 2; ++f) {
+        const FaceShadow& f0 = r.face(0, static_cast<int>(i) + 1, f);
+        const FaceShadow& f1 = r.face(0, static_cast<int>(i) + 1, faces[i].twin_face(f));
+        EXPECT_NE(f0.self_shadowed(), f1.self_shadowed());
+      }
   }
 }
 

@@ -220,7 +220,7 @@ bool point_inside(const PolyhedronClipper& clipper, const Vec3& p) {
 
 PolyhedronClipper::PolyhedronClipper(const Body& body) : body_(body) {
   if (body.two_sided())
-    throw InvalidInput("a two-sided polygon has no interior to clip against");
+    throw InvalidInput("an open surface (two-sided) has no interior to clip against");
   const auto& v = body.vertices();
   triangles_.reserve(body.triangles().size());
   std::vector<Vec3> centroids;

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <span>
 #include <string>
+#include <tuple>
 
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
@@ -499,6 +500,8 @@ Location Body::classify(const Vec3& p) const {
     if (p[i] < box.min()[i] || p[i] > box.max()[i]) return Location::Outside;
   for (const Triangle& t : impl_->triangles)
     if (on_triangle(p, v[t.v[0]], v[t.v[1]], v[t.v[2]])) return Location::OnBoundary;
+  // A two-sided body has no interior: every ray crosses both sides of each face it crosses.
+  if (impl_->two_sided) return Location::Outside;
 
   // Parity of crossings of a segment from p to a far point. Directions from a fixed
   // low-discrepancy sequence, so results are deterministic; a ray that touches an edge, a
@@ -538,6 +541,14 @@ Body Body::transformed(const Transform& t) const {
   if (t.matrix().determinant() < 0)
     for (Face& face : faces)
       for (auto& loop : face.loops) std::reverse(loop.begin(), loop.end());
+  if (impl_->two_sided && faces.size() > 2) {
+    // Rounded coordinates: planar within rounding, as a transformed body's faces.
+    Eigen::AlignedBox3d box;
+    for (const Vec3& p : moved) box.extend(p);
+    std::vector<std::vector<int>> front;
+    for (size_t f = 0; f < faces.size() / 2; ++f) front.push_back(faces[f].loops[0]);
+    return two_sided_surface(moved, front, kRoundingPlanarity * body_scale(moved, box));
+  }
   if (impl_->two_sided) {
     std::vector<Vec3> polygon;
     for (int v : faces[0].loops[0]) polygon.push_back(moved[static_cast<size_t>(v)]);
@@ -567,34 +578,15 @@ Body Body::two_sided_polygon(std::vector<Vec3> polygon, double planarity_toleran
     if (p.cwiseAbs().maxCoeff() > kMaxAbsCoordinate)
       throw InvalidInput("vertex " + str(i) + " has a coordinate beyond ±" + fmt(kMaxAbsCoordinate));
   }
-  auto impl = std::make_shared<Impl>();
-  impl->two_sided = true;
   std::vector<int> outer(static_cast<size_t>(n)), inner(static_cast<size_t>(n));
   std::iota(outer.begin(), outer.end(), 0);
   std::reverse_copy(outer.begin(), outer.end(), inner.begin());
+  std::array<int, 3> s{};
+  if (const std::string why = convex_face_defect(polygon, outer, planarity_tolerance, &s); !why.empty())
+    throw InvalidInput("a two-sided face " + why);
+  auto impl = std::make_shared<Impl>();
+  impl->two_sided = true;
   const Vec3 outward = newell_normal(polygon, outer);
-  const std::array<int, 3> s = support_triple(polygon, outer, outward);
-  if (s[2] < 0 || collinear(polygon[static_cast<size_t>(s[0])], polygon[static_cast<size_t>(s[1])],
-                            polygon[static_cast<size_t>(s[2])]))
-    throw InvalidInput("a two-sided face has zero area (its vertices are collinear)");
-  // Exact: planar, and every corner turns the same way as the support triple (strictly convex).
-  const Vec3 &a = polygon[static_cast<size_t>(s[0])], &b = polygon[static_cast<size_t>(s[1])],
-             &c = polygon[static_cast<size_t>(s[2])];
-  // A point well off the plane on the outward side (rounded: only its exact side matters).
-  const Vec3 lift = a + outward.normalized() * (a.cwiseAbs().maxCoeff() + (b - a).norm() + 1);
-  const Sign up = orient3d(a, b, c, lift);
-  const Vec3 unit_normal = outward.normalized();
-  for (int i = 0; i < n; ++i) {
-    const Vec3& p = polygon[static_cast<size_t>(i)];
-    if (orient3d(a, b, c, p) != Sign::Zero &&
-        !(planarity_tolerance > 0 && std::abs(unit_normal.dot(p - a)) <= planarity_tolerance))
-      throw InvalidInput("a two-sided face is not planar: vertex " + str(i) + " is off its plane");
-    const Vec3& q = polygon[static_cast<size_t>((i + 1) % n)];
-    const Vec3& r = polygon[static_cast<size_t>((i + 2) % n)];
-    // The corner at q turns like (a, b, c): lift lies on the same side of (p, q, r).
-    if (up == Sign::Zero || orient3d(p, q, r, lift) != up)
-      throw InvalidInput("a two-sided face is not strictly convex at vertex " + str((i + 1) % n));
-  }
   const double length = outward.norm();
   const Vec3 unit = outward / length;
   Vec3 centre = Vec3::Zero();
@@ -622,6 +614,133 @@ Body Body::two_sided_polygon(std::vector<Vec3> polygon, double planarity_toleran
   impl->centroid = centre;
   impl->vertices = std::move(polygon);
   return Body(std::shared_ptr<const Impl>(std::move(impl)));
+}
+
+Body Body::two_sided_surface(const std::vector<Vec3>& vertices, const std::vector<std::vector<int>>& faces,
+                             double planarity_tolerance) {
+  const int F = static_cast<int>(faces.size());
+  if (F == 0) throw InvalidInput("a two-sided surface needs at least one face");
+  // Used vertices, renumbered in their order (bbox, scale and vertices() see only these).
+  std::vector<int> renumber(vertices.size(), -1);
+  std::vector<Vec3> used;
+  std::vector<std::vector<int>> loops(faces.size());
+  for (int f = 0; f < F; ++f) {
+    const auto& face = faces[static_cast<size_t>(f)];
+    for (int v : face) {
+      if (v < 0 || static_cast<size_t>(v) >= vertices.size())
+        throw InvalidInput("face " + str(f) + " refers to vertex " + str(v) + ", out of range (the surface has " +
+                           str(static_cast<int>(vertices.size())) + " vertices)");
+      int& r = renumber[static_cast<size_t>(v)];
+      if (r < 0) {
+        const Vec3& p = vertices[static_cast<size_t>(v)];
+        if (!p.allFinite()) throw InvalidInput("vertex " + str(v) + " has a non-finite coordinate " + vec(p));
+        if (p.cwiseAbs().maxCoeff() > kMaxAbsCoordinate)
+          throw InvalidInput("vertex " + str(v) + " has a coordinate beyond ±" + fmt(kMaxAbsCoordinate));
+        r = static_cast<int>(used.size());
+        used.push_back(p);
+      }
+      loops[static_cast<size_t>(f)].push_back(r);
+    }
+  }
+  auto impl = std::make_shared<Impl>();
+  impl->two_sided = true;
+  impl->faces.resize(2 * static_cast<size_t>(F));
+  impl->planes.resize(2 * static_cast<size_t>(F));
+  impl->supports.resize(2 * static_cast<size_t>(F));
+  impl->face_areas.resize(2 * static_cast<size_t>(F));
+  impl->matrix.resize(4, 2 * F);
+  // Per face: exact test, plane, support; in parallel chunks (a million faces).
+  std::vector<std::string> defect(static_cast<size_t>(F));
+  std::vector<Vec3> centroid_part(static_cast<size_t>(F));
+  parallel_chunks(static_cast<size_t>(F), 8192, [&](size_t, size_t begin, size_t end) {
+    for (size_t f = begin; f != end; ++f) {
+      const std::vector<int>& loop = loops[f];
+      std::array<int, 3> s{};
+      defect[f] = convex_face_defect(used, loop, planarity_tolerance, &s);
+      if (!defect[f].empty()) continue;
+      const Vec3 outward = newell_normal(used, loop);
+      const double length = outward.norm();
+      const Vec3 unit = outward / length;
+      Vec3 centre = Vec3::Zero();
+      for (int v : loop) centre += used[static_cast<size_t>(v)];
+      centre /= static_cast<double>(loop.size());
+      const size_t g = f + static_cast<size_t>(F);
+      impl->faces[f] = Face(loop);
+      impl->faces[g] = Face(std::vector<int>(loop.rbegin(), loop.rend()));
+      impl->planes[f] = Plane::through(centre, -unit);
+      impl->planes[g] = Plane::through(centre, unit);
+      impl->supports[f] = s;
+      impl->supports[g] = {s[2], s[1], s[0]};
+      impl->face_areas[f] = impl->face_areas[g] = length / 2;
+      impl->matrix.col(static_cast<Eigen::Index>(f)) = impl->planes[f].coefficients;
+      impl->matrix.col(static_cast<Eigen::Index>(g)) = impl->planes[g].coefficients;
+      centroid_part[f] = centre * length;
+    }
+  });
+  for (int f = 0; f < F; ++f)
+    if (!defect[static_cast<size_t>(f)].empty()) throw InvalidInput("face " + str(f) + " " + defect[static_cast<size_t>(f)]);
+  // Edges: each directed edge of a face at most once; a pair a → b, b → a is an interior edge
+  // (once on each side), an unpaired one a boundary edge joining a face to its other side.
+  struct Directed {
+    int lo, hi, from, face;
+  };
+  std::vector<Directed> directed;
+  for (int f = 0; f < F; ++f) {
+    const auto& loop = loops[static_cast<size_t>(f)];
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const int a = loop[i], b = loop[(i + 1) % loop.size()];
+      directed.push_back({std::min(a, b), std::max(a, b), a, f});
+    }
+  }
+  std::sort(directed.begin(), directed.end(), [](const Directed& x, const Directed& y) {
+    return std::tie(x.lo, x.hi, x.from, x.face) < std::tie(y.lo, y.hi, y.from, y.face);
+  });
+  std::vector<Edge> back_copies;
+  for (size_t i = 0; i < directed.size();) {
+    size_t j = i + 1;
+    while (j < directed.size() && directed[j].lo == directed[i].lo && directed[j].hi == directed[i].hi) ++j;
+    const Directed& d = directed[i];
+    const int to = d.from == d.lo ? d.hi : d.lo;
+    if (j - i > 2 || (j - i == 2 && directed[i + 1].from == d.from))
+      throw InvalidInput("edge " + str(d.from) + "-" + str(to) + " is used twice in one direction or by more than two faces");
+    if (j - i == 1) {
+      impl->edges.push_back({d.from, to, d.face, d.face + F});
+    } else {
+      const Directed& e = directed[i + 1];  // runs to → from
+      impl->edges.push_back({d.from, to, d.face, e.face});
+      back_copies.push_back({d.from, to, e.face + F, d.face + F});
+    }
+    i = j;
+  }
+  impl->edges.insert(impl->edges.end(), back_copies.begin(), back_copies.end());
+  // Triangles: each face's fan, every front face's first (outline() reads only those).
+  for (int side = 0; side < 2; ++side)
+    for (int f = 0; f < F; ++f) {
+      const auto& loop = loops[static_cast<size_t>(f)];
+      for (size_t i = 1; i + 1 < loop.size(); ++i) {
+        if (side == 0) impl->triangles.push_back({{loop[0], loop[i], loop[i + 1]}, f});
+        else impl->triangles.push_back({{loop[0], loop[i + 1], loop[i]}, f + F});
+      }
+    }
+  impl->bbox.setEmpty();
+  for (const Vec3& p : used) impl->bbox.extend(p);
+  impl->scale = body_scale(used, impl->bbox);
+  double area = 0;
+  Vec3 centroid = Vec3::Zero();
+  for (int f = 0; f < F; ++f) {
+    area += impl->face_areas[static_cast<size_t>(f)];
+    centroid += centroid_part[static_cast<size_t>(f)];
+  }
+  impl->area = 2 * area;
+  impl->volume = 0;
+  impl->centroid = area > 0 ? Vec3(centroid / (2 * area)) : impl->bbox.center();
+  impl->vertices = std::move(used);
+  return Body(std::shared_ptr<const Impl>(std::move(impl)));
+}
+
+int Body::twin_face(int f) const {
+  const int half = face_count() / 2;
+  return f < half ? f + half : f - half;
 }
 
 BodyMatrix sign_by_interior_point(BodyMatrix planes, const Vec3& s) {

@@ -123,4 +123,33 @@ std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::
   return {a, b, c};
 }
 
+std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
+                               double planarity, std::array<int, 3>* support) {
+  const size_t n = loop.size();
+  if (n < 3) return "has fewer than 3 vertices";
+  const Vec3 outward = newell_normal(vertices, loop);
+  const std::array<int, 3> s = support_triple(vertices, loop, outward);
+  if (support) *support = s;
+  const auto at = [&](int v) -> const Vec3& { return vertices[static_cast<size_t>(v)]; };
+  if (s[2] < 0 || collinear(at(s[0]), at(s[1]), at(s[2]))) return "has zero area (its vertices are collinear)";
+  // Exact: planar, and every corner turns the same way as the support triple (strictly convex).
+  const Vec3 &a = at(s[0]), &b = at(s[1]), &c = at(s[2]);
+  // A point well off the plane on the outward side (rounded: only its exact side matters).
+  const Vec3 lift = a + outward.normalized() * (a.cwiseAbs().maxCoeff() + (b - a).norm() + 1);
+  const Sign up = orient3d(a, b, c, lift);
+  const Vec3 unit_normal = outward.normalized();
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3& p = at(loop[i]);
+    if (orient3d(a, b, c, p) != Sign::Zero &&
+        !(planarity > 0 && std::abs(unit_normal.dot(p - a)) <= planarity))
+      return "is not planar: vertex " + std::to_string(i) + " is off its plane";
+    const Vec3& q = at(loop[(i + 1) % n]);
+    const Vec3& r = at(loop[(i + 2) % n]);
+    // The corner at q turns like (a, b, c): lift lies on the same side of (p, q, r).
+    if (up == Sign::Zero || orient3d(p, q, r, lift) != up)
+      return "is not strictly convex at vertex " + std::to_string((i + 1) % n);
+  }
+  return {};
+}
+
 }  // namespace hedra

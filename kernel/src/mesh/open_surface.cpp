@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 
 #include "hedra/core/error.h"
@@ -20,16 +22,10 @@ using Loop = std::vector<int>;
 
 std::pair<int, int> key(int a, int b) { return {std::min(a, b), std::max(a, b)}; }
 
-// The two-sided face of a loop, or none when it is not planar (exactly, or within
-// `planarity` when positive) and strictly convex.
-std::optional<Body> convex_face_of(const std::vector<Vec3>& vertices, const Loop& loop, double planarity) {
-  try {
-    std::vector<Vec3> out;
-    for (int v : loop) out.push_back(vertices[static_cast<size_t>(v)]);
-    return Body::two_sided_polygon(std::move(out), planarity);
-  } catch (const InvalidInput&) {
-    return std::nullopt;
-  }
+// Whether a loop is a two-sided face: planar (exactly, or within `planarity` when positive)
+// and strictly convex (Body::two_sided_polygon's test, without building the body).
+bool convex_face_of(const std::vector<Vec3>& vertices, const Loop& loop, double planarity) {
+  return convex_face_defect(vertices, loop, planarity).empty();
 }
 
 // Whether every corner of q lies exactly on the plane of p's first three corners (not collinear:
@@ -59,43 +55,71 @@ Loop joined(const Loop& p, const Loop& q, int a, int b) {
 
 namespace {
 
-// The soup's directed edges (from, to), sorted. Cost O(E log E): sorted vectors, not node-based
-// sets (an 80 000-triangle surface spent a third of its loading in std::set).
-std::vector<std::pair<int, int>> directed_edges(const PolygonSoup& soup) {
-  std::vector<std::pair<int, int>> out;
-  for (const auto& poly : soup.polygons)
-    for (size_t i = 0; i < poly.size(); ++i) out.emplace_back(poly[i], poly[(i + 1) % poly.size()]);
-  std::sort(out.begin(), out.end());
-  return out;
-}
+// The soup's directed edges grouped by their first vertex (a counting sort: O(V + E), no
+// comparisons; a million-face surface spent a third of its loading sorting edge pairs):
+// the ends of the edges from vertex a are to[start[a] … start[a + 1]).
+struct DirectedEdges {
+  std::vector<int> start, to;
+  explicit DirectedEdges(const PolygonSoup& soup) : start(soup.vertices.size() + 1, 0) {
+    for (const auto& poly : soup.polygons)
+      for (int v : poly) ++start[static_cast<size_t>(v) + 1];
+    for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+    to.resize(static_cast<size_t>(start.back()));
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const auto& poly : soup.polygons)
+      for (size_t i = 0; i < poly.size(); ++i)
+        to[static_cast<size_t>(fill[static_cast<size_t>(poly[i])]++)] = poly[(i + 1) % poly.size()];
+  }
+  bool has(int a, int b) const {
+    for (int i = start[static_cast<size_t>(a)]; i < start[static_cast<size_t>(a) + 1]; ++i)
+      if (to[static_cast<size_t>(i)] == b) return true;
+    return false;
+  }
+  // Whether some edge a → b is listed twice.
+  bool repeated() const {
+    for (size_t a = 0; a + 1 < start.size(); ++a)
+      for (int i = start[a]; i < start[a + 1]; ++i)
+        for (int j = start[a]; j < i; ++j)
+          if (to[static_cast<size_t>(i)] == to[static_cast<size_t>(j)]) return true;
+    return false;
+  }
+};
 
-}  // namespace
-
-SurfaceBoundary surface_boundary(const PolygonSoup& soup) {
-  std::vector<std::pair<int, int>> directed = directed_edges(soup);
-  std::vector<std::pair<int, int>> undirected;
-  undirected.reserve(directed.size());
-  for (const auto& [a, b] : directed) undirected.push_back(key(a, b));
-  std::sort(undirected.begin(), undirected.end());
+SurfaceBoundary boundary_of(const PolygonSoup& soup, const DirectedEdges& directed) {
   SurfaceBoundary out;
-  out.edges = static_cast<int>(std::unique(undirected.begin(), undirected.end()) - undirected.begin());
+  // Undirected edges: each counted from its first directed copy from the smaller end, or from
+  // the larger end when there is none from the smaller.
+  for (size_t a = 0; a + 1 < directed.start.size(); ++a)
+    for (int i = directed.start[a]; i < directed.start[a + 1]; ++i) {
+      const int b = directed.to[static_cast<size_t>(i)];
+      bool first = true;
+      for (int j = directed.start[a]; j < i && first; ++j) first = directed.to[static_cast<size_t>(j)] != b;
+      if (first && (static_cast<int>(a) <= b || !directed.has(b, static_cast<int>(a)))) ++out.edges;
+    }
   // In soup order, so that the first boundary edge is the file's first.
   for (const auto& poly : soup.polygons)
     for (size_t i = 0; i < poly.size(); ++i) {
       const int a = poly[i], b = poly[(i + 1) % poly.size()];
-      if (std::binary_search(directed.begin(), directed.end(), std::make_pair(b, a))) continue;
+      if (directed.has(b, a)) continue;
       if (out.boundary_edges++ == 0) out.first_from = a, out.first_to = b;
     }
   return out;
 }
 
+}  // namespace
+
+SurfaceBoundary surface_boundary(const PolygonSoup& soup) { return boundary_of(soup, DirectedEdges(soup)); }
+
 bool is_open_surface(const PolygonSoup& soup) {
   for (const auto& poly : soup.polygons)
     for (int v : poly)
       if (v < 0 || static_cast<size_t>(v) >= soup.vertices.size()) return false;
-  const std::vector<std::pair<int, int>> directed = directed_edges(soup);
-  if (directed.empty() || std::adjacent_find(directed.begin(), directed.end()) != directed.end()) return false;
-  return surface_boundary(soup).boundary_edges > 0;
+  const DirectedEdges directed(soup);
+  if (directed.to.empty() || directed.repeated()) return false;
+  for (const auto& poly : soup.polygons)
+    for (size_t i = 0; i < poly.size(); ++i)
+      if (!directed.has(poly[(i + 1) % poly.size()], poly[i])) return true;
+  return false;
 }
 
 SurfaceSummary summarize_surface(const PolygonSoup& soup) {
@@ -118,9 +142,17 @@ SurfaceSummary summarize_surface(const PolygonSoup& soup) {
 
 namespace {
 
-// The two-sided faces of polygons of `soup` (see two_sided_faces), planar exactly or, when
+// The convex faces of an open surface (two_sided_faces): loops of indices into `vertices`,
+// each planar within `planarity` (0: exactly) and strictly convex.
+struct ConvexLoops {
+  std::vector<Vec3> vertices;
+  std::vector<Loop> loops;
+  double planarity = 0;
+};
+
+// The convex loops of polygons of `soup` (see two_sided_faces), planar exactly or, when
 // `planarity` is positive, within it.
-std::vector<Body> faces_of_loops(const PolygonSoup& soup, double planarity) {
+ConvexLoops faces_of_loops(const PolygonSoup& soup, double planarity) {
   const auto convex_face = [&](const PolygonSoup& s, const Loop& loop) {
     return convex_face_of(s.vertices, loop, planarity);
   };
@@ -151,10 +183,25 @@ std::vector<Body> faces_of_loops(const PolygonSoup& soup, double planarity) {
   }
   // Stage: merge coplanar neighbours (exactly, or within `planarity`) while the union stays
   // strictly convex (greedy, in soup order: deterministic).
-  std::map<std::pair<int, int>, std::vector<int>> by_edge;
+  // The loops at each undirected edge, as sorted (edge, loop) pairs of the loops as given; a
+  // loop merged into another resolves to it (union-find), so the table never changes. A flat
+  // table, not a map of lists: a million-triangle surface spent a tenth of its loading there.
+  struct EdgeLoop {
+    std::pair<int, int> edge;
+    int loop;
+    bool operator<(const EdgeLoop& o) const { return std::tie(edge, loop) < std::tie(o.edge, o.loop); }
+  };
+  std::vector<EdgeLoop> by_edge;
   for (size_t i = 0; i < loops.size(); ++i)
     for (size_t k = 0; k < loops[i].size(); ++k)
-      by_edge[key(loops[i][k], loops[i][(k + 1) % loops[i].size()])].push_back(static_cast<int>(i));
+      by_edge.push_back({key(loops[i][k], loops[i][(k + 1) % loops[i].size()]), static_cast<int>(i)});
+  std::sort(by_edge.begin(), by_edge.end());
+  std::vector<int> into(loops.size());
+  std::iota(into.begin(), into.end(), 0);
+  const auto root = [&](int j) {
+    while (into[static_cast<size_t>(j)] != j) j = into[static_cast<size_t>(j)] = into[static_cast<size_t>(into[static_cast<size_t>(j)])];
+    return j;
+  };
   std::vector<bool> alive(loops.size(), true);
   for (size_t i = 0; i < loops.size(); ++i) {
     if (!alive[i]) continue;
@@ -164,7 +211,10 @@ std::vector<Body> faces_of_loops(const PolygonSoup& soup, double planarity) {
       const Loop& p = loops[i];
       for (size_t k = 0; k < p.size() && !merged; ++k) {
         const int a = p[k], b = p[(k + 1) % p.size()];
-        for (int j : by_edge[key(a, b)]) {
+        const auto range = std::equal_range(by_edge.begin(), by_edge.end(), EdgeLoop{key(a, b), -1},
+                                            [](const EdgeLoop& x, const EdgeLoop& y) { return x.edge < y.edge; });
+        for (auto it = range.first; it != range.second && !merged; ++it) {
+          const int j = root(it->loop);
           if (j == static_cast<int>(i) || !alive[static_cast<size_t>(j)]) continue;
           // Exactly: a neighbour off p's plane (the first three corners of a strictly convex
           // loop are not collinear) cannot merge; settled without building the union (whose
@@ -172,22 +222,20 @@ std::vector<Body> faces_of_loops(const PolygonSoup& soup, double planarity) {
           if (planarity == 0 && !coplanar_loops(soup.vertices, p, loops[static_cast<size_t>(j)])) continue;
           Loop u = joined(p, loops[static_cast<size_t>(j)], a, b);
           if (u.empty() || !convex_face(soup, u)) continue;
-          for (size_t m = 0; m < loops[static_cast<size_t>(j)].size(); ++m) {
-            const Loop& q = loops[static_cast<size_t>(j)];
-            by_edge[key(q[m], q[(m + 1) % q.size()])].push_back(static_cast<int>(i));
-          }
+          into[static_cast<size_t>(j)] = static_cast<int>(i);
           alive[static_cast<size_t>(j)] = false;
           loops[i] = std::move(u);
           merged = true;
-          break;
         }
       }
     }
   }
-  std::vector<Body> out;
+  ConvexLoops out;
+  out.vertices = soup.vertices;
+  out.planarity = planarity;
   for (size_t i = 0; i < loops.size(); ++i)
-    if (alive[i]) out.push_back(*convex_face(soup, loops[i]));
-  if (out.empty()) throw InvalidInput("the surface has no face of non-zero area");
+    if (alive[i]) out.loops.push_back(std::move(loops[i]));
+  if (out.loops.empty()) throw InvalidInput("the surface has no face of non-zero area");
   return out;
 }
 
@@ -200,7 +248,7 @@ double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 // `--tolerance D` on an open surface (see two_sided_faces). Throws InvalidInput where the
 // snapped surface gives no valid faces; the caller then takes the exact faces.
-std::vector<Body> snapped_faces(const PolygonSoup& soup, double tolerance) {
+ConvexLoops snapped_faces(const PolygonSoup& soup, double tolerance) {
   // Polygons without repeated consecutive points; those of fewer than 3 or of zero area are
   // left out, as the exact faces leave them out.
   PolygonSoup clean;
@@ -370,7 +418,9 @@ std::vector<Body> snapped_faces(const PolygonSoup& soup, double tolerance) {
 
 }  // namespace
 
-std::vector<Body> two_sided_faces(const PolygonSoup& soup, double tolerance) {
+namespace {
+
+ConvexLoops convex_loops(const PolygonSoup& soup, double tolerance) {
   if (tolerance > 0) {
     try {
       return snapped_faces(soup, tolerance);
@@ -380,6 +430,58 @@ std::vector<Body> two_sided_faces(const PolygonSoup& soup, double tolerance) {
     }
   }
   return faces_of_loops(soup, 0);
+}
+
+}  // namespace
+
+std::vector<Body> two_sided_faces(const PolygonSoup& soup, double tolerance) {
+  const ConvexLoops faces = convex_loops(soup, tolerance);
+  std::vector<Body> out;
+  out.reserve(faces.loops.size());
+  for (const Loop& loop : faces.loops) {
+    std::vector<Vec3> corners;
+    for (int v : loop) corners.push_back(faces.vertices[static_cast<size_t>(v)]);
+    out.push_back(Body::two_sided_polygon(std::move(corners), faces.planarity));
+  }
+  return out;
+}
+
+Body two_sided_surface(const PolygonSoup& soup, double tolerance) {
+  // Vertices of equal coordinates are one (a soup need not share them: its faces then meet
+  // along edges all the same, and exactly coplanar neighbours merge across them).
+  const size_t n = soup.vertices.size();
+  std::vector<int> order(n);
+  std::iota(order.begin(), order.end(), 0);
+  const auto& v = soup.vertices;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const Vec3 &p = v[static_cast<size_t>(a)], &q = v[static_cast<size_t>(b)];
+    return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3) || (p == q && a < b);
+  });
+  std::vector<int> first(n);
+  bool any = false;
+  for (size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<size_t>(order[k]);
+    const bool same = k > 0 && v[static_cast<size_t>(order[k - 1])] == v[i];
+    first[i] = same ? first[static_cast<size_t>(order[k - 1])] : order[k];
+    any = any || same;
+  }
+  const auto surface_of = [&](const PolygonSoup& s) {
+    const ConvexLoops faces = convex_loops(s, tolerance);
+    return Body::two_sided_surface(faces.vertices, faces.loops, faces.planarity);
+  };
+  if (any) {
+    PolygonSoup joined;
+    joined.vertices = soup.vertices;
+    joined.polygons = soup.polygons;
+    for (auto& poly : joined.polygons)
+      for (int& x : poly) x = first[static_cast<size_t>(x)];
+    try {
+      return surface_of(joined);
+    } catch (const InvalidInput&) {
+      // Joined, an edge is used twice one way (faces that only touch there): as given.
+    }
+  }
+  return surface_of(soup);
 }
 
 }  // namespace hedra

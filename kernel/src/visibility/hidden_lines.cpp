@@ -209,19 +209,22 @@ void Roberts::prepare_bodies() {
         for (size_t f = lo; f != hi; ++f) bd.facing[f] = facing(body, static_cast<int>(f), view_);
       });
       // Line classes: O(E) in double (a drawing construction, not a decision). A two-sided
-      // face of an open surface gets its classes from the faces around it (surface_joins).
-      if (options_.crease_angle > 0 && !body.two_sided()) {
+      // face of an open surface gets its classes from the faces around it (surface_joins); a
+      // surface of many faces (Body::two_sided_surface) from its own edges, its boundary edges
+      // (joining a face to its other side) sharp.
+      const bool one_face = body.two_sided() && body.face_count() == 2;
+      if (options_.crease_angle > 0 && !one_face) {
         bd.classes = classify_edges(body, options_.crease_angle, surface(static_cast<int>(b)));
         bd.any_smooth = std::find(bd.classes.begin(), bd.classes.end(), EdgeClass::Smooth) != bd.classes.end();
       }
-      // A two-sided face of an open surface is its own convex piece.
-      bd.convex = body.two_sided() || is_convex(body);
+      // A two-sided face is its own convex piece; a two-sided surface occludes by its faces.
+      bd.convex = one_face || (!body.two_sided() && is_convex(body));
       meter_.add();
       if (bd.convex) {
         per_body[b].pieces.push_back(body);
         continue;
       }
-      if (!brute && occludes_by_faces(body, options_.occluders)) {
+      if (body.two_sided() || (!brute && occludes_by_faces(body, options_.occluders))) {
         // Closed, seen from outside: the faces turned to the viewpoint hide everything the body
         // hides (hedra/visibility/occlusion.h, Occluders::Faces).
         bd.faceted = true;
@@ -294,7 +297,7 @@ void Roberts::prepare_bodies() {
         // tolerance): the volume from its corners, built on first use; else the two-sided
         // triangle as a Body.
         const auto& c = p.triangle;
-        if (facing(triangle_plane(c), view_) == Facing::Front)
+        if (!brute && facing(triangle_plane(c), view_) == Facing::Front)
           p.deferred = true;
         else
           p.piece = Body::two_sided_polygon({c[0], c[1], c[2]});
@@ -425,7 +428,7 @@ void Roberts::surface_joins() {
   std::vector<int> sided;  // the two-sided bodies
   for (size_t b = 0; b < bodies_.size(); ++b) {
     const Body& body = bodies_[b];
-    if (!body.two_sided()) continue;
+    if (!body.two_sided() || body.face_count() > 2) continue;  // a surface joins its own faces
     sided.push_back(static_cast<int>(b));
     const auto& v = body.vertices();
     for (int e = 0; e < body.edge_count(); ++e) {
@@ -873,6 +876,8 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
   const HlrBody& bd = data_[static_cast<size_t>(b)];
   const auto& v = body.vertices();
   body_candidates(b, scratch);
+  const bool surface_body = body.two_sided() && body.face_count() > 2;
+  const int sides = body.face_count() / 2;  // a two-sided body's faces of one side
   for (int e = 0; e < body.edge_count(); ++e) {
     if ((e & 63) == 63) meter_.add(64);  // HlrOptions::progress
     const Edge& edge = body.edges()[static_cast<size_t>(e)];
@@ -885,6 +890,18 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
     // first face (the second, its twin, would find the same parts: each face's edges lie on
     // the other's boundary, which hides nothing).
     if (!bd.twin.empty() && bd.twin[static_cast<size_t>(e)]) continue;
+    // A two-sided surface has each edge between two of its faces on both sides: drawn once,
+    // by the side turned to the viewpoint there: the front side's copy unless both its faces
+    // are Back (then the other side's, whose faces are Front). A boundary edge joins the two
+    // sides: one copy.
+    if (surface_body && edge.left_face != body.twin_face(edge.right_face)) {
+      const bool front_side = edge.left_face < sides;
+      const int l = front_side ? edge.left_face : edge.left_face - sides;
+      const int r = front_side ? edge.right_face : edge.right_face - sides;
+      const bool both_back = bd.facing[static_cast<size_t>(l)] == Facing::Back &&
+                             bd.facing[static_cast<size_t>(r)] == Facing::Back;
+      if (front_side == both_back) continue;
+    }
     if (smooth) {
       ++out.stats.smooth_edges;
       if (!options_.smooth) continue;
@@ -898,8 +915,10 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
       coplanar = coplanar && (k == sl[0] || k == sl[1] || k == sl[2] ||
                               orient3d(v[static_cast<size_t>(sl[0])], v[static_cast<size_t>(sl[1])],
                                               v[static_cast<size_t>(sl[2])], v[static_cast<size_t>(k)]) == Sign::Zero);
-    // A two-sided face's edges join its two faces, which share one plane: all are drawn.
-    if ((coplanar && !body.two_sided()) || end_on(p1, p2)) continue;
+    // A two-sided face's edges join its two faces, which share one plane: all are drawn, as
+    // a two-sided surface's boundary edges.
+    if ((coplanar && !(body.two_sided() && edge.left_face == body.twin_face(edge.right_face))) || end_on(p1, p2))
+      continue;
     if (!smooth) ++out.stats.edges;
     // Stage 1: an edge between two back faces is hidden by its own body.
     if (bd.facing[static_cast<size_t>(edge.left_face)] == Facing::Back &&
@@ -918,7 +937,11 @@ void Roberts::edges_of(int b, Scratch& scratch, EdgeOutput& out) const {
       if (o.body == skip) return false;
       if (o.body != b) return true;
       // A triangle of one of the edge's own faces: the edge lies on the face, not behind it
-      // (a face planar only within rounding: its triangles are an ulp off each other).
+      // (a face planar only within rounding: its triangles are an ulp off each other); on a
+      // two-sided surface, also of their other sides.
+      if (o.face >= 0 && surface_body)
+        return o.face != edge.left_face && o.face != edge.right_face &&
+               o.face != body.twin_face(edge.left_face) && o.face != body.twin_face(edge.right_face);
       if (o.face >= 0) return o.face != edge.left_face && o.face != edge.right_face;
       return !edge_incident(o, edge.v0, edge.v1, edge.left_face, edge.right_face);
     };

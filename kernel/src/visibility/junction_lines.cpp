@@ -189,7 +189,9 @@ void Roberts::junctions() {
     parallel_chunks(pairs.size(), 4096, [&](size_t, size_t begin, size_t end) {
       for (size_t k = begin; k != end; ++k) {
         const Body &a = bodies_[static_cast<size_t>(pairs[k].first)], &b = bodies_[static_cast<size_t>(pairs[k].second)];
-        keep[k] = !(a.two_sided() && b.two_sided()) || two_sided_faces_cross(a, b);
+        // Two-sided faces, one each (a surface of many faces is one body, faceted).
+        const bool faces = a.two_sided() && b.two_sided() && a.face_count() == 2 && b.face_count() == 2;
+        keep[k] = !faces || two_sided_faces_cross(a, b);
       }
     });
     size_t n = 0;

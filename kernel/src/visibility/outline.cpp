@@ -241,9 +241,12 @@ std::vector<OutlineSegment> outline(const Body& body, const Viewpoint& view,
 
   // The triangles in fixed chunks, each chunk's segments in triangle order, the chunks in
   // order: the same list at any thread count.
+  // A two-sided body lists the triangles of its front side first; its other side has the same
+  // contour (its corner normals are the negated ones), so only the front side is traced.
   const auto& triangles = body.triangles();
-  std::vector<std::vector<OutlineSegment>> chunk_out((triangles.size() + kChunk - 1) / kChunk);
-  parallel_chunks(triangles.size(), kChunk, [&](size_t c, size_t begin, size_t end) {
+  const size_t traced = body.two_sided() ? triangles.size() / 2 : triangles.size();
+  std::vector<std::vector<OutlineSegment>> chunk_out((traced + kChunk - 1) / kChunk);
+  parallel_chunks(traced, kChunk, [&](size_t c, size_t begin, size_t end) {
     std::vector<OutlineSegment>& out = chunk_out[c];
     for (size_t ti = begin; ti != end; ++ti) {
       const Triangle& t = triangles[ti];

@@ -3,9 +3,13 @@
 #include "hedra/visibility/roberts.h"
 
 #include <algorithm>
+#include <array>
+#include <map>
+#include <numeric>
 
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/core/error.h"
+#include "hedra/core/face_geometry.h"
 #include "hedra/core/predicates.h"
 #include "hedra/core/tolerance.h"
 #include "hedra/decompose/split.h"
@@ -72,16 +76,13 @@ std::string body_name(std::span<const std::string> names, size_t b) {
   return names.empty() ? "body " + std::to_string(b) : "body '" + names[b] + "'";
 }
 
-// The part of a two-sided face (an open surface's) strictly in front of the near plane, as
-// two-sided faces: its convex polygon clipped by the plane, each corner's side decided exactly
-// (corners on the plane kept), each crossing interpolated from the edge's end points in
-// lexicographic order, so that the faces sharing an edge get the same point and the edge stays
-// one edge of the surface. The crossings are rounded: the polygon is planar within
-// kRoundingPlanarity of the face's scale; where rounding leaves it not strictly convex, its
-// fan of triangles. None when no part in front has area. Cost O(corners).
-std::vector<Body> face_in_front(const Body& face, const Plane& near) {
-  const std::vector<Vec3>& v = face.vertices();
-  const std::vector<int>& loop = face.faces()[0].loops[0];
+// A convex polygon `loop` of a two-sided face (an open surface's) clipped by the near plane:
+// each corner's side decided exactly (corners on the plane kept), each crossing interpolated
+// from the edge's end points in lexicographic order, so that the faces sharing an edge get the
+// same point and the edge stays one edge of the surface. The crossings are rounded: the
+// polygon is planar within kRoundingPlanarity of the face's scale. Repeated consecutive points
+// are dropped; fewer than 3 left: none in front. Cost O(corners).
+std::vector<Vec3> polygon_in_front(const std::vector<Vec3>& v, const std::vector<int>& loop, const Plane& near) {
   const size_t n = loop.size();
   std::vector<Vec3> kept;
   for (size_t i = 0; i < n; ++i) {
@@ -101,20 +102,54 @@ std::vector<Body> face_in_front(const Body& face, const Plane& near) {
   for (const Vec3& p : kept)
     if (polygon.empty() || p != polygon.back()) polygon.push_back(p);
   while (polygon.size() > 1 && polygon.front() == polygon.back()) polygon.pop_back();
-  if (polygon.size() < 3) return {};
-  const double planarity = kRoundingPlanarity * face.scale();
+  if (polygon.size() < 3) polygon.clear();
+  return polygon;
+}
+
+// The part of a two-sided body strictly in front of the near plane: each face of its front side
+// clipped by polygon_in_front() (a polygon that rounding leaves not strictly convex: its fan of
+// triangles, those with area), as one two-sided surface whose corners of equal coordinates are
+// one vertex (neighbours share their crossings), so that the surface keeps its edges. None when
+// no part in front has area. Where the pieces do not join into one surface, each is its own
+// two-sided face. Cost O(n log n) for n corners.
+std::vector<Body> face_in_front(const Body& body, const Plane& near) {
+  const std::vector<Vec3>& v = body.vertices();
+  const double planarity = kRoundingPlanarity * body.scale();
+  std::vector<Vec3> points;
+  std::map<std::array<double, 3>, int> index;
+  std::vector<std::vector<int>> loops;
+  std::vector<std::vector<Vec3>> polygons;
+  const auto add = [&](const std::vector<Vec3>& polygon) {
+    std::vector<int> loop;
+    for (const Vec3& p : polygon) {
+      const auto [it, added] = index.emplace(std::array<double, 3>{p.x(), p.y(), p.z()}, static_cast<int>(points.size()));
+      if (added) points.push_back(p);
+      loop.push_back(it->second);
+    }
+    loops.push_back(std::move(loop));
+    polygons.push_back(polygon);
+  };
+  for (int f = 0; f < body.face_count() / 2; ++f) {
+    const std::vector<Vec3> polygon = polygon_in_front(v, body.faces()[static_cast<size_t>(f)].loops[0], near);
+    if (polygon.empty()) continue;
+    std::vector<int> all(polygon.size());
+    std::iota(all.begin(), all.end(), 0);
+    if (convex_face_defect(polygon, all, planarity).empty()) {
+      add(polygon);
+      continue;
+    }
+    for (size_t i = 1; i + 1 < polygon.size(); ++i) {
+      const std::vector<Vec3> t{polygon[0], polygon[i], polygon[i + 1]};
+      if (convex_face_defect(t, {0, 1, 2}, 0).empty()) add(t);  // else no area: nothing there
+    }
+  }
+  if (loops.empty()) return {};
   try {
-    return {Body::two_sided_polygon(polygon, planarity)};
+    return {Body::two_sided_surface(points, loops, planarity)};
   } catch (const InvalidInput&) {
   }
   std::vector<Body> out;
-  for (size_t i = 1; i + 1 < polygon.size(); ++i) {
-    try {
-      out.push_back(Body::two_sided_polygon({polygon[0], polygon[i], polygon[i + 1]}));
-    } catch (const InvalidInput&) {
-      // no area: nothing of the face there
-    }
-  }
+  for (const std::vector<Vec3>& polygon : polygons) out.push_back(Body::two_sided_polygon(polygon, planarity));
   return out;
 }
 

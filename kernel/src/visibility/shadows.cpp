@@ -189,7 +189,9 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     parallel_blocks(bd.faces.size(), 0, 256, [&](size_t begin, size_t end) {
       for (size_t f = begin; f != end; ++f) bd.faces[f] = make_face(bd.body, static_cast<int>(f));
     });
-    bd.convex = bd.body.two_sided() || is_convex(bd.body);  // a two-sided face: one piece
+    // A two-sided face is one piece; a two-sided surface occludes by its faces.
+    const bool one_face = bd.body.two_sided() && bd.body.face_count() == 2;
+    bd.convex = one_face || (!bd.body.two_sided() && is_convex(bd.body));
     if (bd.convex) {
       // The body is its one piece, with its faces' planes (a copy only here: 160 bytes a face).
       std::vector<ExactPlane> planes;
@@ -197,7 +199,7 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       for (const ShadowFace& fd : bd.faces) planes.push_back(fd.plane);
       pieces[b].push_back(bd.body);
       piece_planes[b].push_back(std::move(planes));
-    } else if (occludes_by_faces(bd.body, m.occluders)) {
+    } else if (bd.body.two_sided() || occludes_by_faces(bd.body, m.occluders)) {
       // Closed: the faces turned to a viewpoint hide everything the body hides from it
       // (hedra/visibility/occlusion.h, Occluders::Faces).
       // Its pieces are its faces' triangles (face_triangles_of), made below.

@@ -133,8 +133,26 @@ class Body {
   /// that distance (as BodyOptions: merged faces of a surface snapped within `--tolerance`);
   /// exact decisions still use the supporting triple.
   static Body two_sided_polygon(std::vector<Vec3> polygon, double planarity_tolerance = 0);
-  /// True for two_sided_polygon() bodies.
+  /// An open surface (a scan, a terrain) as one flat, closed body: faces 0 … F−1 are the F
+  /// given convex polygons (loops of indices into `vertices`, consistently oriented: each
+  /// directed edge at most once), faces F … 2F−1 the same polygons reversed (face f + F is the
+  /// other side of face f). An edge two faces share is an edge of each side (the front copy
+  /// first); a boundary edge joins a face to its other side. Only the vertices the faces use
+  /// are kept, renumbered in their order. Hidden lines, shadows and rendering take it as two
+  /// sides of one surface, its faces occluding (hedra/visibility/occlusion.h,
+  /// Occluders::Faces): a million faces are one body, not a million. Every face is tested as
+  /// two_sided_polygon()'s, and `planarity_tolerance` means the same. volume() is 0, area()
+  /// twice the surface's, classify() never says Inside.
+  /// \throw InvalidInput naming the first face that is not a planar strictly convex polygon,
+  ///   or the first edge used twice in one direction or by three faces.
+  ///   Cost O(n + E log E) for n corners and E edges.
+  static Body two_sided_surface(const std::vector<Vec3>& vertices,
+                                const std::vector<std::vector<int>>& faces,
+                                double planarity_tolerance = 0);
+  /// True for two_sided_polygon() and two_sided_surface() bodies.
   bool two_sided() const;
+  /// A two-sided body's face on the other side of face f: f ± face_count() / 2.
+  int twin_face(int f) const;
 
  private:
   // Memo of hedra/mesh/convexity.h's is_convex() verdict, shared by copies (the geometry is

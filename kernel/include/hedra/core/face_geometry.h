@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "hedra/core/plane.h"
@@ -36,5 +37,14 @@ Vec3 oriented_normal(const std::vector<Vec3>& vertices, const std::vector<int>& 
 /// with a and b (in floating point).
 std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
                                   const Vec3& normal);
+
+/// Why `loop` is not a two-sided convex face (Body::two_sided_polygon, Body::two_sided_surface):
+/// empty when its corners are exactly coplanar (or, with `planarity` > 0, each within that
+/// distance of the plane of its support triple) and it is strictly convex (every corner turns
+/// as the support triple does); else "has zero area (its vertices are collinear)", "is not
+/// planar: vertex i is off its plane" or "is not strictly convex at vertex i", i the position
+/// in the loop. The support triple goes to `support`. Exact predicates; cost O(k).
+std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
+                               double planarity, std::array<int, 3>* support = nullptr);
 
 }  // namespace hedra

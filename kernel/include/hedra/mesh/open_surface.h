@@ -69,4 +69,11 @@ SurfaceSummary summarize_surface(const PolygonSoup& soup);
 ///   with D > 0 also O(R²) for R regions and O(b²) per region of b boundary vertices.
 std::vector<Body> two_sided_faces(const PolygonSoup& soup, double tolerance = 0);
 
+/// The faces of two_sided_faces() as one Body::two_sided_surface(): the form scene files and
+/// mesh files give hidden lines, shadows and rendering (one body for a million faces). Vertices
+/// of equal coordinates are taken as one. \throw InvalidInput as two_sided_faces(), and when
+/// the faces, so joined, use an edge twice in one direction or three times (then
+/// two_sided_faces() still takes them). Cost as two_sided_faces(), plus O(n log n).
+Body two_sided_surface(const PolygonSoup& soup, double tolerance = 0);
+
 }  // namespace hedra

@@ -41,8 +41,8 @@ struct SceneBody {
 };
 
 /// An open surface of a scene file (a scan, a terrain: a "mesh" or "polyhedron" body that is
-/// not closed). Hidden lines, shadows and rendering take its faces, which are scene bodies
-/// named `<name>.f<i>` (Body::two_sided_polygon); solid commands refuse it with `not_solid`.
+/// not closed). Hidden lines, shadows and rendering take it as one scene body of that name,
+/// a Body::two_sided_surface; solid commands refuse it with `not_solid`.
 struct SceneSurface {
   std::string name;       ///< the body's name in the scene file
   std::string not_solid;  ///< one-line message naming the file, the body and the first boundary edge
@@ -67,8 +67,7 @@ class Scene {
  public:
   /// Adds a body under a new name and returns it for chained settings (its name is fixed: the
   /// scene finds bodies by it). \throw InvalidInput when the name is empty or already used.
-  /// Cost O(1) expected (names are hashed: an open surface of a million faces adds a million
-  /// bodies).
+  /// Cost O(1) expected (names are hashed).
   SceneBody& add(const std::string& name, const Body& body, const Material& material = {});
   /// \throw InvalidInput when there is no body of that name. Cost O(1) expected.
   const SceneBody& get(const std::string& name) const;
@@ -82,7 +81,7 @@ class Scene {
   Camera camera = Camera::course_default();
   std::vector<Light> lights;
   ImageSettings image;
-  /// Open surfaces read from a scene file, in file order (their faces are among bodies()).
+  /// Open surfaces read from a scene file, in file order (each is one of bodies()).
   std::vector<SceneSurface> surfaces;
 
  private:
