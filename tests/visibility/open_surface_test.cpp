@@ -595,9 +595,14 @@ TEST(OpenSurfaceShadows, TerrainShadowOnGroundEqualsCgalUnionOfProjectedTriangle
       soup.polygons.push_back({a, a + 1, a + n + 2});
       soup.polygons.push_back({a, a + n + 2, a + n + 1});
     }
-  for (const auto& [form, faces] : both_forms(soup))
+  // As given (face 0 up, turned to the light) and reversed (the light sees each face's other
+  // side: a surface's triangle then occludes reversed, ShadowPiece::back_plane).
+  PolygonSoup reversed = soup;
+  for (auto& poly : reversed.polygons) std::reverse(poly.begin(), poly.end());
+  for (const PolygonSoup* given : {&soup, &reversed})
+  for (const auto& [form, faces] : both_forms(*given))
   for (const Vec3& d : {Vec3(0.35, 0.2, -1), Vec3(-0.5, 0.3, -0.8), Vec3(0.1, -0.7, -0.6)}) {
-    SCOPED_TRACE(form);
+    SCOPED_TRACE(std::string(form) + (given == &soup ? ", as given" : ", reversed"));
     Scene scene;
     scene.add("ground", box({-6, -6, -1}, {10, 10, 0}));
     for (size_t i = 0; i < faces.size(); ++i) scene.add("t" + std::to_string(i), faces[i]);

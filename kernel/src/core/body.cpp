@@ -681,36 +681,49 @@ Body Body::two_sided_surface(const std::vector<Vec3>& vertices, const std::vecto
     if (!defect[static_cast<size_t>(f)].empty()) throw InvalidInput("face " + str(f) + " " + defect[static_cast<size_t>(f)]);
   // Edges: each directed edge of a face at most once; a pair a → b, b → a is an interior edge
   // (once on each side), an unpaired one a boundary edge joining a face to its other side.
+  // Grouped by the smaller end (a counting sort), each group sorted by (other end, from,
+  // face): the order of a sort of all of them, without one (a million faces).
   struct Directed {
-    int lo, hi, from, face;
+    int hi, from, face;
+    bool operator<(const Directed& o) const { return std::tie(hi, from, face) < std::tie(o.hi, o.from, o.face); }
   };
-  std::vector<Directed> directed;
-  for (int f = 0; f < F; ++f) {
-    const auto& loop = loops[static_cast<size_t>(f)];
-    for (size_t i = 0; i < loop.size(); ++i) {
-      const int a = loop[i], b = loop[(i + 1) % loop.size()];
-      directed.push_back({std::min(a, b), std::max(a, b), a, f});
+  const size_t nv = used.size();
+  std::vector<int> start(nv + 1, 0);
+  for (const auto& loop : loops)
+    for (size_t i = 0; i < loop.size(); ++i) ++start[static_cast<size_t>(std::min(loop[i], loop[(i + 1) % loop.size()])) + 1];
+  for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<Directed> directed(static_cast<size_t>(start.back()));
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (int f = 0; f < F; ++f) {
+      const auto& loop = loops[static_cast<size_t>(f)];
+      for (size_t i = 0; i < loop.size(); ++i) {
+        const int a = loop[i], b = loop[(i + 1) % loop.size()];
+        directed[static_cast<size_t>(fill[static_cast<size_t>(std::min(a, b))]++)] = {std::max(a, b), a, f};
+      }
     }
   }
-  std::sort(directed.begin(), directed.end(), [](const Directed& x, const Directed& y) {
-    return std::tie(x.lo, x.hi, x.from, x.face) < std::tie(y.lo, y.hi, y.from, y.face);
-  });
   std::vector<Edge> back_copies;
-  for (size_t i = 0; i < directed.size();) {
-    size_t j = i + 1;
-    while (j < directed.size() && directed[j].lo == directed[i].lo && directed[j].hi == directed[i].hi) ++j;
-    const Directed& d = directed[i];
-    const int to = d.from == d.lo ? d.hi : d.lo;
-    if (j - i > 2 || (j - i == 2 && directed[i + 1].from == d.from))
-      throw InvalidInput("edge " + str(d.from) + "-" + str(to) + " is used twice in one direction or by more than two faces");
-    if (j - i == 1) {
-      impl->edges.push_back({d.from, to, d.face, d.face + F});
-    } else {
-      const Directed& e = directed[i + 1];  // runs to → from
-      impl->edges.push_back({d.from, to, d.face, e.face});
-      back_copies.push_back({d.from, to, e.face + F, d.face + F});
+  impl->edges.reserve(directed.size());
+  for (size_t lo = 0; lo < nv; ++lo) {
+    const auto first = directed.begin() + start[lo], last = directed.begin() + start[lo + 1];
+    std::sort(first, last);
+    for (auto it = first; it != last;) {
+      auto next = it + 1;
+      while (next != last && next->hi == it->hi) ++next;
+      const Directed& d = *it;
+      const int to = d.from == static_cast<int>(lo) ? d.hi : static_cast<int>(lo);
+      if (next - it > 2 || (next - it == 2 && (it + 1)->from == d.from))
+        throw InvalidInput("edge " + str(d.from) + "-" + str(to) + " is used twice in one direction or by more than two faces");
+      if (next - it == 1) {
+        impl->edges.push_back({d.from, to, d.face, d.face + F});
+      } else {
+        const Directed& e = *(it + 1);  // runs to → from
+        impl->edges.push_back({d.from, to, d.face, e.face});
+        back_copies.push_back({d.from, to, e.face + F, d.face + F});
+      }
+      it = next;
     }
-    i = j;
   }
   impl->edges.insert(impl->edges.end(), back_copies.begin(), back_copies.end());
   // Triangles: each face's fan, every front face's first (outline() reads only those).

@@ -183,19 +183,24 @@ ConvexLoops faces_of_loops(const PolygonSoup& soup, double planarity) {
   }
   // Stage: merge coplanar neighbours (exactly, or within `planarity`) while the union stays
   // strictly convex (greedy, in soup order: deterministic).
-  // The loops at each undirected edge, as sorted (edge, loop) pairs of the loops as given; a
-  // loop merged into another resolves to it (union-find), so the table never changes. A flat
-  // table, not a map of lists: a million-triangle surface spent a tenth of its loading there.
-  struct EdgeLoop {
-    std::pair<int, int> edge;
-    int loop;
-    bool operator<(const EdgeLoop& o) const { return std::tie(edge, loop) < std::tie(o.edge, o.loop); }
-  };
-  std::vector<EdgeLoop> by_edge;
-  for (size_t i = 0; i < loops.size(); ++i)
-    for (size_t k = 0; k < loops[i].size(); ++k)
-      by_edge.push_back({key(loops[i][k], loops[i][(k + 1) % loops[i].size()]), static_cast<int>(i)});
-  std::sort(by_edge.begin(), by_edge.end());
+  // The loops at each undirected edge {a < b}, listed under a (a counting sort: O(n), and a
+  // lookup reads one short list, where a sorted table's binary searches took a fifth of the
+  // loading of a million triangles); a loop merged into another resolves to it (union-find),
+  // so the lists never change.
+  const size_t nv = soup.vertices.size();
+  std::vector<int> start(nv + 1, 0);
+  for (const Loop& l : loops)
+    for (size_t k = 0; k < l.size(); ++k) ++start[static_cast<size_t>(std::min(l[k], l[(k + 1) % l.size()])) + 1];
+  for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<std::pair<int, int>> at_edge(static_cast<size_t>(start.back()));  // (b, loop)
+  {
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (size_t i = 0; i < loops.size(); ++i)
+      for (size_t k = 0; k < loops[i].size(); ++k) {
+        const auto [a, b] = key(loops[i][k], loops[i][(k + 1) % loops[i].size()]);
+        at_edge[static_cast<size_t>(fill[static_cast<size_t>(a)]++)] = {b, static_cast<int>(i)};
+      }
+  }
   std::vector<int> into(loops.size());
   std::iota(into.begin(), into.end(), 0);
   const auto root = [&](int j) {
@@ -211,10 +216,10 @@ ConvexLoops faces_of_loops(const PolygonSoup& soup, double planarity) {
       const Loop& p = loops[i];
       for (size_t k = 0; k < p.size() && !merged; ++k) {
         const int a = p[k], b = p[(k + 1) % p.size()];
-        const auto range = std::equal_range(by_edge.begin(), by_edge.end(), EdgeLoop{key(a, b), -1},
-                                            [](const EdgeLoop& x, const EdgeLoop& y) { return x.edge < y.edge; });
-        for (auto it = range.first; it != range.second && !merged; ++it) {
-          const int j = root(it->loop);
+        const auto [lo, hi] = key(a, b);
+        for (int e = start[static_cast<size_t>(lo)]; e < start[static_cast<size_t>(lo) + 1] && !merged; ++e) {
+          if (at_edge[static_cast<size_t>(e)].first != hi) continue;
+          const int j = root(at_edge[static_cast<size_t>(e)].second);
           if (j == static_cast<int>(i) || !alive[static_cast<size_t>(j)]) continue;
           // Exactly: a neighbour off p's plane (the first three corners of a strictly convex
           // loop are not collinear) cannot merge; settled without building the union (whose

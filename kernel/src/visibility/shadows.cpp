@@ -112,7 +112,8 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
       // reflex by an ulp (a sixth of the triangles clipped on a 1M float32 sphere), before a
       // volume is built.
       bool inside = false;
-      for (const Vec3& c : corners) inside = inside || side_of_plane(*piece.triangle_plane, c) == Sign::Positive;
+      const ExactPlane& plane = piece.turned_plane(volumes.active[static_cast<size_t>(p)]);
+      for (const Vec3& c : corners) inside = inside || side_of_plane(plane, c) == Sign::Positive;
       if (!inside) return;
     }
     const ConvexClipper& clipper = *volumes.volume_of(pieces, p).clipper;
@@ -143,8 +144,10 @@ PieceVolumes ShadowScene::Impl::volumes(const Viewpoint& view, int threads) cons
   parallel_for(pieces.size(), threads, [&](size_t p) {
     const ShadowPiece& piece = pieces[p];
     if (!piece.convex) {
-      // A triangle of a closed body's face occludes only when the face turns to the viewpoint.
-      v.active[p] = facing(*piece.triangle_plane, view) == Facing::Front;
+      // A triangle of a closed body's face occludes only when the face turns to the viewpoint;
+      // a two-sided surface's from either side, reversed from its back.
+      v.active[p] = facing(*piece.triangle_plane, view) == Facing::Front ? 1
+                    : piece.back_plane && facing(*piece.back_plane, view) == Facing::Front ? 2 : 0;
       return;
     }
     const ShadowPiece::Convex& c = *piece.convex;
@@ -224,7 +227,16 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
   std::vector<std::vector<FaceTriangle>> faceted(m.bodies.size());
   size_t total_pieces = 0;
   for (size_t b = 0; b < m.bodies.size(); ++b) {
-    if (m.bodies[b].faceted) faceted[b] = face_triangles_of(m.bodies[b].body);
+    if (m.bodies[b].faceted) {
+      // A two-sided surface: its front side's triangles, each occluding from both sides.
+      const Body& body = m.bodies[b].body;
+      std::vector<char> front;
+      if (body.two_sided()) {
+        front.assign(static_cast<size_t>(body.face_count()), 0);
+        std::fill(front.begin(), front.begin() + body.face_count() / 2, 1);
+      }
+      faceted[b] = face_triangles_of(body, front);
+    }
     total_pieces += pieces[b].size() + faceted[b].size();
   }
   // Every piece default-made first, then filled; a faceted body's triangles in parallel.
@@ -269,6 +281,17 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
         } else {
           pd.own_triangle_plane = std::make_unique<ExactPlane>(triangle_plane(pd.triangle));
           pd.triangle_plane = pd.own_triangle_plane.get();
+        }
+        if (body_data.body.two_sided()) {
+          // The other side: the twin face's plane when the face is this triangle (the same
+          // three corners the other way round: the exact plane, negated), else its own.
+          const ShadowFace& back = body_data.faces[static_cast<size_t>(body_data.body.twin_face(f))];
+          if (own) {
+            pd.back_plane = &back.plane;
+          } else {
+            pd.own_back_plane = std::make_unique<ExactPlane>(triangle_plane(pd.turned(2)));
+            pd.back_plane = pd.own_back_plane.get();
+          }
         }
         place(pd);
       }

@@ -131,8 +131,20 @@ struct ShadowPiece {
   // bytes a triangle), else own_triangle_plane.
   const ExactPlane* triangle_plane = nullptr;
   std::unique_ptr<ExactPlane> own_triangle_plane;
+  // A triangle of a two-sided surface (Body::two_sided_surface): the plane of its other side,
+  // the triangle reversed (its twin face's plane when that is the same triangle, else
+  // own_back_plane). The surface keeps one piece per triangle of its front side, which
+  // occludes from either side: from a viewpoint its face turns away from, as the triangle
+  // reversed (PieceVolumes::active 2), so the other side's coincident triangles are not pieces.
+  const ExactPlane* back_plane = nullptr;
+  std::unique_ptr<ExactPlane> own_back_plane;
   Vec3 centre = Vec3::Zero();
   double radius = 0;
+  // The triangle as it occludes from a viewpoint on the side `active` says (1 front, 2 back).
+  std::array<Vec3, 3> turned(char active) const {
+    return active == 2 ? std::array<Vec3, 3>{triangle[0], triangle[2], triangle[1]} : triangle;
+  }
+  const ExactPlane& turned_plane(char active) const { return active == 2 ? *back_plane : *triangle_plane; }
 };
 
 struct ShadowBody {
@@ -154,7 +166,7 @@ struct ShadowBody {
   bool skips(int face, int piece, const ShadowPiece& pd) const {
     if (convex) return true;  // a convex body hides nothing of its own faces
     // A triangle of the face itself lies on it (a face planar within rounding: an ulp off).
-    if (faceted) return pd.face == face;
+    if (faceted) return pd.face == face || (body.two_sided() && pd.face == body.twin_face(face));
     const auto& v = own_adjacent[static_cast<size_t>(face)];
     return std::find(v.begin(), v.end(), piece) != v.end();
   }
@@ -175,7 +187,9 @@ bool piece_on_face_plane(const Body& piece, const ShadowFace& fd, double scale);
 // a clip needs it.
 struct PieceVolumes {
   std::vector<OcclusionVolume> volumes;  // per convex piece (ShadowPiece::Convex::slot)
-  std::vector<char> active;              // per piece: it occludes from the viewpoint
+  // Per piece: it occludes from the viewpoint (1; 2 for a two-sided surface's triangle seen
+  // from its back, which occludes reversed: ShadowPiece::back_plane).
+  std::vector<char> active;
   Viewpoint view;
   // The volume of piece p (active): the stored one, or a triangle's built in a per-thread
   // scratch, valid until this thread's next call. Cost O(1) for a triangle.
@@ -183,7 +197,8 @@ struct PieceVolumes {
     const ShadowPiece& piece = pieces[static_cast<size_t>(p)];
     if (piece.convex) return volumes[static_cast<size_t>(piece.convex->slot)];
     thread_local OcclusionVolume scratch;
-    scratch = triangle_occlusion_volume(piece.triangle, *piece.triangle_plane, view);
+    const char side = active[static_cast<size_t>(p)];
+    scratch = triangle_occlusion_volume(piece.turned(side), piece.turned_plane(side), view);
     return scratch;
   }
 };
