@@ -216,9 +216,14 @@ def main():
     os.makedirs(results, exist_ok=True)
     out_path = os.path.join(results, "faces_scaling.json")
     entries = []
+    # --only NAME reruns one case into an earlier run's file, which keeps its own quick flag
+    # (the 980 000-triangle terrain added to a quick run: --only terrain700).
+    record_quick = quick
     if only and os.path.exists(out_path):
         with open(out_path) as f:
-            entries = [e for e in json.load(f)["entries"] if e["case"] + str(e["t"]) != only]
+            earlier = json.load(f)
+        entries = [e for e in earlier["entries"] if e["case"] + str(e["t"]) != only]
+        record_quick = earlier.get("quick", quick)
     with tempfile.TemporaryDirectory() as work:
         tolerances = [1e-2, 1e-3, 1e-4] + ([] if quick else [1e-5])
         for t in tolerances:
@@ -228,12 +233,12 @@ def main():
             with open(path, "w") as f:
                 json.dump(scene(t), f)
             entries.append(measure_case(hedra, "scene", t, path, work))
-            save(out_path, quick, entries)
+            save(out_path, record_quick, entries)
         if not only or only.startswith("star"):
             for n in STAR_POINTS:
                 entries.append(measure_star(hedra, n, work))
-                save(out_path, quick, entries)
-        for n in TERRAIN_CELLS[:1] if quick else TERRAIN_CELLS:
+                save(out_path, record_quick, entries)
+        for n in TERRAIN_CELLS[:1] if quick and not only else TERRAIN_CELLS:
             if only and only != f"terrain{n}":
                 continue
             mesh = write_terrain(work, n)
@@ -244,7 +249,7 @@ def main():
             e = measure_case(hedra, "terrain", n, path, work, MESH_TIMEOUT_S)
             e["triangles"] = 2 * n * n
             entries.append(e)
-            save(out_path, quick, entries)
+            save(out_path, record_quick, entries)
         if not quick and (not only or only.startswith("mesh")):
             try:
                 mesh, triangles = write_mesh(hedra, work)
@@ -257,7 +262,7 @@ def main():
             except (OSError, subprocess.CalledProcessError, AssertionError, ValueError) as err:
                 e = {"case": "mesh", "t": 0, "faces": None, "runs": {"info": {"error": str(err)[-300:]}}}
             entries.append(e)
-    save(out_path, quick, entries)
+    save(out_path, record_quick, entries)
 
 
 def save(path, quick, entries):
