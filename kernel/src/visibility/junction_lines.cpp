@@ -5,6 +5,7 @@
 #include <functional>
 #include <map>
 #include <numeric>
+#include <optional>
 
 #include "hedra/core/error.h"
 #include "hedra/core/parallel.h"
@@ -58,9 +59,67 @@ std::vector<std::pair<int, int>> Roberts::find_touching_pairs() const {
   return out;
 }
 
+void Roberts::build_grids() {
+  if (!grids_.empty()) return;
+  grids_.resize(bodies_.size());
+  std::vector<int> partners(bodies_.size(), 0);
+  for (const auto& [i, j] : touching_pairs()) ++partners[static_cast<size_t>(i)], ++partners[static_cast<size_t>(j)];
+  parallel_blocks(bodies_.size(), threads_, 1, [&](size_t begin, size_t end) {
+    for (size_t b = begin; b != end; ++b) {
+      const Body& body = bodies_[b];
+      if (partners[b] < kGridPartners || body.face_count() <= kGridFaces) continue;
+      auto grid = std::make_unique<BodyGrid>();
+      // The two widest axes of the body's box.
+      const Vec3 size = body.bbox().sizes();
+      int thin = 0;
+      for (int k = 1; k < 3; ++k)
+        if (size[k] < size[thin]) thin = k;
+      grid->u = (thin + 1) % 3;
+      grid->v = (thin + 2) % 3;
+      const Eigen::AlignedBox2d extent = grid->flat(body.bbox());
+      std::vector<Eigen::AlignedBox2d> boxes(static_cast<size_t>(body.face_count()));
+      for (int f = 0; f < body.face_count(); ++f) boxes[static_cast<size_t>(f)] = grid->flat(detail::face_box(body, f));
+      grid->faces.build(boxes, extent);
+      const auto& v = body.vertices();
+      boxes.resize(static_cast<size_t>(body.edge_count()));
+      for (int e = 0; e < body.edge_count(); ++e) {
+        const Edge& edge = body.edges()[static_cast<size_t>(e)];
+        const Vec3 &p = v[static_cast<size_t>(edge.v0)], &q = v[static_cast<size_t>(edge.v1)];
+        boxes[static_cast<size_t>(e)] = grid->flat(Eigen::AlignedBox3d(p.cwiseMin(q), p.cwiseMax(q)));
+      }
+      grid->edges.build(boxes, extent);
+      grids_[b] = std::move(grid);
+    }
+  });
+}
+
+namespace {
+
+template <class Visit>
+std::vector<int> listed_once(Visit visit) {
+  std::vector<int> out;
+  visit([&](int id) { out.push_back(id); });
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> Roberts::grid_faces(int b, const Eigen::AlignedBox3d& box) const {
+  const BodyGrid& g = *grids_[static_cast<size_t>(b)];
+  return listed_once([&](const auto& f) { g.faces.visit(g.flat(box), f); });
+}
+
+std::vector<int> Roberts::grid_edges(int b, const Eigen::AlignedBox3d& box) const {
+  const BodyGrid& g = *grids_[static_cast<size_t>(b)];
+  return listed_once([&](const auto& f) { g.edges.visit(g.flat(box), f); });
+}
+
 void Roberts::merge_coincident() {
   const auto& pairs = touching_pairs();
   if (pairs.empty()) return;
+  build_grids();
   // Union-find over (body, edge).
   std::vector<int> offset(bodies_.size() + 1, 0);
   for (size_t b = 0; b < bodies_.size(); ++b) offset[b + 1] = offset[b] + bodies_[b].edge_count();
@@ -71,14 +130,29 @@ void Roberts::merge_coincident() {
     return x;
   };
   bool any = false;
-  for (const auto& [i, j] : pairs) {
+  std::vector<int> all_b, listed_a;
+  for (const auto& [pi, pj] : pairs) {
+    // The body of fewer edges outside, so that a body with a grid is the inner one and only its
+    // edges near each outer edge are read.
+    const bool swap = bodies_[static_cast<size_t>(pi)].edge_count() > bodies_[static_cast<size_t>(pj)].edge_count();
+    const int i = swap ? pj : pi, j = swap ? pi : pj;
     const Body &a = bodies_[static_cast<size_t>(i)], &b = bodies_[static_cast<size_t>(j)];
-    for (int ea = 0; ea < a.edge_count(); ++ea) {
+    const BodyGrid* grid_a = grids_[static_cast<size_t>(i)].get();
+    const BodyGrid* grid_b = grids_[static_cast<size_t>(j)].get();
+    if (grid_a) listed_a = grid_edges(i, b.bbox());
+    const int count_a = grid_a ? static_cast<int>(listed_a.size()) : a.edge_count();
+    if (!grid_b) {
+      all_b.resize(static_cast<size_t>(b.edge_count()));
+      std::iota(all_b.begin(), all_b.end(), 0);
+    }
+    for (int k = 0; k < count_a; ++k) {
+      const int ea = grid_a ? listed_a[static_cast<size_t>(k)] : k;
       const Edge& x = a.edges()[static_cast<size_t>(ea)];
       const Vec3 &a0 = a.vertices()[static_cast<size_t>(x.v0)], &a1 = a.vertices()[static_cast<size_t>(x.v1)];
       const Eigen::AlignedBox3d box_a(a0.cwiseMin(a1), a0.cwiseMax(a1));
       if (!box_a.intersects(b.bbox())) continue;
-      for (int eb = 0; eb < b.edge_count(); ++eb) {
+      const std::vector<int> near_b = grid_b ? grid_edges(j, box_a) : std::vector<int>();
+      for (const int eb : grid_b ? near_b : all_b) {
         const Edge& y = b.edges()[static_cast<size_t>(eb)];
         const Vec3 &b0 = b.vertices()[static_cast<size_t>(y.v0)], &b1 = b.vertices()[static_cast<size_t>(y.v1)];
         if (!box_a.intersects(Eigen::AlignedBox3d(b0.cwiseMin(b1), b0.cwiseMax(b1)))) continue;
@@ -86,7 +160,10 @@ void Roberts::merge_coincident() {
         // repeated point: exact arithmetic, for every edge faces of an open surface share).
         const auto on_line = [&](const Vec3& p) { return p == a0 || p == a1 || collinear(a0, a1, p); };
         if (!on_line(b0) || !on_line(b1)) continue;
-        parent[static_cast<size_t>(find(offset[static_cast<size_t>(i)] + ea))] = find(offset[static_cast<size_t>(j)] + eb);
+        // Joined in the pair's order (the first body's edge under the second's), as before the
+        // grid: the groups do not depend on which body ran outside.
+        const int e_first = swap ? eb : ea, e_second = swap ? ea : eb;
+        parent[static_cast<size_t>(find(offset[static_cast<size_t>(pi)] + e_first))] = find(offset[static_cast<size_t>(pj)] + e_second);
         any = true;
       }
     }
@@ -220,8 +297,21 @@ void Roberts::junctions() {
     partners[static_cast<size_t>(i)].push_back(j);
     partners[static_cast<size_t>(j)].push_back(i);
   }
+  build_grids();
   for (size_t b = 0; b < bodies_.size(); ++b) {
     if (partners[b].empty()) continue;
+    if (grids_[b]) {
+      // Its faces near each partner, from its grid (not the box of all partners: buildings
+      // spread over a terrain cover all of it).
+      std::vector<char> meets(static_cast<size_t>(bodies_[b].face_count()), 0);
+      for (int o : partners[b])
+        for (int f : grid_faces(static_cast<int>(b), bodies_[static_cast<size_t>(o)].bbox()))
+          if (!meets[static_cast<size_t>(f)] && detail::face_box(bodies_[b], f).intersects(bodies_[static_cast<size_t>(o)].bbox())) {
+            meets[static_cast<size_t>(f)] = 1;
+            face_plane(static_cast<int>(b), f);
+          }
+      continue;
+    }
     std::vector<Eigen::AlignedBox3d> near;
     for (int o : partners[b]) near.push_back(bodies_[static_cast<size_t>(o)].bbox());
     if (near.size() > 8) {
@@ -265,11 +355,16 @@ void Roberts::junctions() {
           return true;
         }, candidates_out);
       };
+      // A body with a grid: its faces near the other body's box (a superset), not all of them.
+      std::optional<std::vector<int>> near_i, near_j;
+      if (grids_[static_cast<size_t>(i)]) near_i = grid_faces(i, bodies_[static_cast<size_t>(j)].bbox());
+      if (grids_[static_cast<size_t>(j)]) near_j = grid_faces(j, bodies_[static_cast<size_t>(i)].bbox());
       const std::vector<detail::JunctionPart> parts = detail::junction_lines(
           bodies_[static_cast<size_t>(i)], bodies_[static_cast<size_t>(j)],
           [&](int f) -> const ExactPlane& { return built_face_plane(i, f); },
           [&](int f) -> const ExactPlane& { return built_face_plane(j, f); }, view_, query, brute, found[k],
-          back[static_cast<size_t>(i)], back[static_cast<size_t>(j)], &cache);
+          back[static_cast<size_t>(i)], back[static_cast<size_t>(j)], &cache, near_i ? &*near_i : nullptr,
+          near_j ? &*near_j : nullptr);
       for (const auto& p : parts) add_segment(out[k], p.a, p.b, LineKind::Junction, i, j, -1);
     }
   });

@@ -481,25 +481,41 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          const FacePlane& planes_a, const FacePlane& planes_b,
                                          const Viewpoint& view, const CandidateQuery& query,
                                          bool brute, int& found, const std::vector<bool>& back_a,
-                                         const std::vector<bool>& back_b, ExactPlaneCache* cache) {
+                                         const std::vector<bool>& back_b, ExactPlaneCache* cache,
+                                         const std::vector<int>* listed_a, const std::vector<int>* listed_b) {
   std::vector<JunctionPart> out;
-  // Only B's faces whose boxes meet A's box can meet a face of A: O(Fb) box tests once, then
-  // each face of A near B is tested against those alone.
+  // Only B's faces whose boxes meet A's box can meet a face of A: O(Fb) box tests once (of the
+  // faces listed, when a list is given), then each face of A near B is tested against those.
   std::vector<int> near_b;
   std::vector<Eigen::AlignedBox3d> boxes_b;
-  const std::vector<char> b_near_a = faces_meeting(b, std::span(&a.bbox(), 1));
-  for (int fb = 0; fb < b.face_count(); ++fb) {
-    if (!b_near_a[static_cast<size_t>(fb)]) continue;
-    near_b.push_back(fb);
-    boxes_b.push_back(face_box(b, fb));
+  if (listed_b) {
+    for (int fb : *listed_b)
+      if (Eigen::AlignedBox3d box = face_box(b, fb); box.intersects(a.bbox())) {
+        near_b.push_back(fb);
+        boxes_b.push_back(box);
+      }
+  } else {
+    const std::vector<char> b_near_a = faces_meeting(b, std::span(&a.bbox(), 1));
+    for (int fb = 0; fb < b.face_count(); ++fb) {
+      if (!b_near_a[static_cast<size_t>(fb)]) continue;
+      near_b.push_back(fb);
+      boxes_b.push_back(face_box(b, fb));
+    }
   }
   if (near_b.empty()) return out;
   // B's exact planes built on first use, then reused.
   std::vector<std::optional<HPlane>> hplanes_b(near_b.size());
   Candidates candidates;
-  const std::vector<char> a_near_b = faces_meeting(a, std::span(&b.bbox(), 1));
-  for (int fa = 0; fa < a.face_count(); ++fa) {
-    if (!a_near_b[static_cast<size_t>(fa)]) continue;
+  std::vector<int> near_a;
+  if (listed_a) {
+    for (int fa : *listed_a)
+      if (face_box(a, fa).intersects(b.bbox())) near_a.push_back(fa);
+  } else {
+    const std::vector<char> a_near_b = faces_meeting(a, std::span(&b.bbox(), 1));
+    for (int fa = 0; fa < a.face_count(); ++fa)
+      if (a_near_b[static_cast<size_t>(fa)]) near_a.push_back(fa);
+  }
+  for (const int fa : near_a) {
     const Eigen::AlignedBox3d box_a = face_box(a, fa);
     std::optional<HPlane> ha_built;
     for (size_t kb = 0; kb < near_b.size(); ++kb) {

@@ -75,9 +75,11 @@ std::optional<std::pair<double, double>> hidden_by_planes_brute_force(
 /// `back_a` / `back_b` (empty when the body is not convex): faces strictly facing away from the
 /// viewer of a convex body; a junction in the relative interior of such a face is hidden by its
 /// own body, so it is skipped without a test.
-/// Cost: O(Fa + Fb) box tests, then O(Fa'·Fb') for the faces of each whose boxes meet the other
-/// body's box, and per junction segment O(candidates · planes) exact evaluations
-/// at most (usually far fewer with the early end).
+/// `near_a` / `near_b` (null: all faces): the faces of A (of B) that may meet B's (A's) box, a
+/// superset found by the caller's index; the rest are never read.
+/// Cost: O(Fa + Fb) box tests (of the faces listed), then O(Fa'·Fb') for the faces of each whose
+/// boxes meet the other body's box, and per junction segment O(candidates · planes) exact
+/// evaluations at most (usually far fewer with the early end).
 struct JunctionPart {
   Vec3 a, b;
 };
@@ -102,6 +104,8 @@ std::vector<JunctionPart> junction_lines(const Body& a, const Body& b,
                                          bool brute_force, int& found,
                                          const std::vector<bool>& back_a = {},
                                          const std::vector<bool>& back_b = {},
-                                         ExactPlaneCache* cache = nullptr);
+                                         ExactPlaneCache* cache = nullptr,
+                                         const std::vector<int>* near_a = nullptr,
+                                         const std::vector<int>* near_b = nullptr);
 
 }  // namespace hedra::detail

@@ -389,6 +389,27 @@ class Roberts {
 
   void junctions();
 
+  // A body of many faces in grids over its two widest axes (PictureGrid), one of its faces and
+  // one of its edges: its faces and edges near a partner's box come from the cells the box
+  // covers instead of a test of every one of them in every pair (a terrain of a million faces
+  // under 400 buildings: 30 s of hidden lines, 3 s without the buildings). Built for the bodies
+  // of more than kGridFaces faces in at least kGridPartners touching pairs (a sphere on a slab
+  // reads its faces once, as before), before the pairs run; null otherwise.
+  struct BodyGrid {
+    int u = 0, v = 1;  // the axes
+    PictureGrid faces, edges;
+    Eigen::AlignedBox2d flat(const Eigen::AlignedBox3d& box) const {
+      return {Eigen::Vector2d(box.min()[u], box.min()[v]), Eigen::Vector2d(box.max()[u], box.max()[v])};
+    }
+  };
+  static constexpr int kGridFaces = 256, kGridPartners = 4;
+  std::vector<std::unique_ptr<BodyGrid>> grids_;
+  void build_grids();
+  // Faces (edges) of body b, which has a grid, whose boxes may meet `box`: ascending, once each
+  // (a superset: the cells'). Cost O(cells covered + listed).
+  std::vector<int> grid_faces(int b, const Eigen::AlignedBox3d& box) const;
+  std::vector<int> grid_edges(int b, const Eigen::AlignedBox3d& box) const;
+
   std::span<const Body> bodies_;
   std::span<const std::string> names_;
   std::span<const SmoothSurface> surfaces_;
