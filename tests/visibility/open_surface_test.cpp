@@ -452,6 +452,11 @@ TEST(OpenSurfaceHiddenLines, BowlIsDrawnAsItsRimAndItsOutline) {
   const HlrResult all = hidden_lines(faces, camera, options);
   EXPECT_EQ(all.picture_length(LineKind::Outline), 0);
   EXPECT_GT(all.picture_length(LineKind::Edge), 10 * rim);
+  // At the largest crease angle every edge between faces is smooth, but the rim stays sharp
+  // (a boundary edge joins a face to its other side: 180°, which rounding must not decide).
+  options.crease_angle = 180;
+  const HlrResult flat = hidden_lines(faces, camera, options);
+  EXPECT_NEAR(flat.picture_length(LineKind::Edge), rim, 1e-9);
   }
 }
 

@@ -602,10 +602,9 @@ Body Body::two_sided_polygon(std::vector<Vec3> polygon, double planarity_toleran
     impl->matrix.col(f) = impl->planes[static_cast<size_t>(f)].coefficients;
   }
   for (int i = 0; i < n; ++i) impl->edges.push_back({i, (i + 1) % n, 0, 1});
-  for (int i = 1; i + 1 < n; ++i) {
-    impl->triangles.push_back({{0, i, i + 1}, 0});
-    impl->triangles.push_back({{0, i + 1, i}, 1});
-  }
+  // Face 0's triangles first, as two_sided_surface() lists its front side's (outline() reads those).
+  for (int i = 1; i + 1 < n; ++i) impl->triangles.push_back({{0, i, i + 1}, 0});
+  for (int i = 1; i + 1 < n; ++i) impl->triangles.push_back({{0, i + 1, i}, 1});
   impl->bbox.setEmpty();
   for (const Vec3& p : polygon) impl->bbox.extend(p);
   impl->scale = body_scale(polygon, impl->bbox);

@@ -69,18 +69,16 @@ struct DirectedEdges {
     for (const auto& poly : soup.polygons)
       for (size_t i = 0; i < poly.size(); ++i)
         to[static_cast<size_t>(fill[static_cast<size_t>(poly[i])]++)] = poly[(i + 1) % poly.size()];
+    // Each list sorted: a vertex of high degree (a fan's apex) costs O(d log d), not O(d²).
+    for (size_t a = 0; a + 1 < start.size(); ++a) std::sort(to.begin() + start[a], to.begin() + start[a + 1]);
   }
   bool has(int a, int b) const {
-    for (int i = start[static_cast<size_t>(a)]; i < start[static_cast<size_t>(a) + 1]; ++i)
-      if (to[static_cast<size_t>(i)] == b) return true;
-    return false;
+    return std::binary_search(to.begin() + start[static_cast<size_t>(a)], to.begin() + start[static_cast<size_t>(a) + 1], b);
   }
   // Whether some edge a → b is listed twice.
   bool repeated() const {
     for (size_t a = 0; a + 1 < start.size(); ++a)
-      for (int i = start[a]; i < start[a + 1]; ++i)
-        for (int j = start[a]; j < i; ++j)
-          if (to[static_cast<size_t>(i)] == to[static_cast<size_t>(j)]) return true;
+      if (std::adjacent_find(to.begin() + start[a], to.begin() + start[a + 1]) != to.begin() + start[a + 1]) return true;
     return false;
   }
 };
@@ -92,8 +90,7 @@ SurfaceBoundary boundary_of(const PolygonSoup& soup, const DirectedEdges& direct
   for (size_t a = 0; a + 1 < directed.start.size(); ++a)
     for (int i = directed.start[a]; i < directed.start[a + 1]; ++i) {
       const int b = directed.to[static_cast<size_t>(i)];
-      bool first = true;
-      for (int j = directed.start[a]; j < i && first; ++j) first = directed.to[static_cast<size_t>(j)] != b;
+      const bool first = i == directed.start[a] || directed.to[static_cast<size_t>(i) - 1] != b;  // sorted
       if (first && (static_cast<int>(a) <= b || !directed.has(b, static_cast<int>(a)))) ++out.edges;
     }
   // In soup order, so that the first boundary edge is the file's first.
@@ -200,6 +197,8 @@ ConvexLoops faces_of_loops(const PolygonSoup& soup, double planarity) {
         const auto [a, b] = key(loops[i][k], loops[i][(k + 1) % loops[i].size()]);
         at_edge[static_cast<size_t>(fill[static_cast<size_t>(a)]++)] = {b, static_cast<int>(i)};
       }
+    // Each list sorted (a fan's apex: O(d log d), not O(d²) lookups).
+    for (size_t a = 0; a < nv; ++a) std::sort(at_edge.begin() + start[a], at_edge.begin() + start[a + 1]);
   }
   std::vector<int> into(loops.size());
   std::iota(into.begin(), into.end(), 0);
@@ -217,9 +216,9 @@ ConvexLoops faces_of_loops(const PolygonSoup& soup, double planarity) {
       for (size_t k = 0; k < p.size() && !merged; ++k) {
         const int a = p[k], b = p[(k + 1) % p.size()];
         const auto [lo, hi] = key(a, b);
-        for (int e = start[static_cast<size_t>(lo)]; e < start[static_cast<size_t>(lo) + 1] && !merged; ++e) {
-          if (at_edge[static_cast<size_t>(e)].first != hi) continue;
-          const int j = root(at_edge[static_cast<size_t>(e)].second);
+        const auto first = at_edge.begin() + start[static_cast<size_t>(lo)], last = at_edge.begin() + start[static_cast<size_t>(lo) + 1];
+        for (auto it = std::lower_bound(first, last, std::make_pair(hi, -1)); it != last && it->first == hi && !merged; ++it) {
+          const int j = root(it->second);
           if (j == static_cast<int>(i) || !alive[static_cast<size_t>(j)]) continue;
           // Exactly: a neighbour off p's plane (the first three corners of a strictly convex
           // loop are not collinear) cannot merge; settled without building the union (whose
@@ -455,16 +454,18 @@ Body two_sided_surface(const PolygonSoup& soup, double tolerance) {
   // Vertices of equal coordinates are one (a soup need not share them: its faces then meet
   // along edges all the same, and exactly coplanar neighbours merge across them).
   const size_t n = soup.vertices.size();
-  std::vector<int> order(n);
-  std::iota(order.begin(), order.end(), 0);
   const auto& v = soup.vertices;
+  // Not joined when a coordinate is not finite (no order to sort by): the body names the vertex.
+  const bool finite = std::all_of(v.begin(), v.end(), [](const Vec3& p) { return p.allFinite(); });
+  std::vector<int> order(finite ? n : 0);
+  std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) {
     const Vec3 &p = v[static_cast<size_t>(a)], &q = v[static_cast<size_t>(b)];
     return std::lexicographical_compare(p.data(), p.data() + 3, q.data(), q.data() + 3) || (p == q && a < b);
   });
   std::vector<int> first(n);
   bool any = false;
-  for (size_t k = 0; k < n; ++k) {
+  for (size_t k = 0; k < order.size(); ++k) {
     const auto i = static_cast<size_t>(order[k]);
     const bool same = k > 0 && v[static_cast<size_t>(order[k - 1])] == v[i];
     first[i] = same ? first[static_cast<size_t>(order[k - 1])] : order[k];
@@ -472,6 +473,16 @@ Body two_sided_surface(const PolygonSoup& soup, double tolerance) {
   }
   const auto surface_of = [&](const PolygonSoup& s) {
     const ConvexLoops faces = convex_loops(s, tolerance);
+    if (tolerance > 0 && faces.planarity > 0) {
+      try {
+        return Body::two_sided_surface(faces.vertices, faces.loops, faces.planarity);
+      } catch (const InvalidInput&) {
+        // The snapped faces do not make one surface (snapping joined or split an edge): the
+        // surface exactly, as where snapping gives no valid faces.
+      }
+      const ConvexLoops exact = convex_loops(s, 0);
+      return Body::two_sided_surface(exact.vertices, exact.loops, exact.planarity);
+    }
     return Body::two_sided_surface(faces.vertices, faces.loops, faces.planarity);
   };
   if (any) {
