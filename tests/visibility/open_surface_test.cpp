@@ -67,6 +67,13 @@ TEST(TwoSidedPolygon, RejectsNonConvexNonPlanarAndDegeneratePolygons) {
                InvalidInput);  // not planar
   EXPECT_THROW(Body::two_sided_polygon({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {1, 1, 0}}),
                InvalidInput);  // collinear corner
+  // A pentagram turns the same way at every corner but winds twice: not convex.
+  std::vector<Vec3> star;
+  for (int k = 0; k < 5; ++k) star.emplace_back(std::cos(4 * kPi * k / 5), std::sin(4 * kPi * k / 5), 0.5);
+  EXPECT_THROW(Body::two_sided_polygon(star), InvalidInput);
+  std::vector<Vec3> pentagon;
+  for (int k = 0; k < 5; ++k) pentagon.emplace_back(std::cos(2 * kPi * k / 5), std::sin(2 * kPi * k / 5), 0.5);
+  EXPECT_NO_THROW(Body::two_sided_polygon(pentagon));
 }
 
 // A rotation rounds the corners off their exact plane: the face stays a two-sided face

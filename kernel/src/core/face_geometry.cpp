@@ -149,6 +149,29 @@ std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vec
     if (up == Sign::Zero || orient3d(p, q, r, lift) != up)
       return "is not strictly convex at vertex " + std::to_string((i + 1) % n);
   }
+  // Turning the same way at every corner does not make a star polygon convex (a pentagram
+  // winds twice). A convex one winds once: seen along the normal's largest axis, one of the
+  // other coordinates rises and falls once round the loop, its steps changing sign twice
+  // (signs of differences of doubles: exact).
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(outward[k]) > std::abs(outward[axis])) axis = k;
+  const int across = (axis + 1) % 3;
+  const auto step_sign = [&](size_t i) {
+    const double step = at(loop[(i + 1) % n])[across] - at(loop[i])[across];
+    return (step > 0) - (step < 0);
+  };
+  size_t first = 0;
+  while (first < n && step_sign(first) == 0) ++first;
+  int changes = 0;
+  for (size_t k = 1, last = first; first < n && k <= n; ++k) {
+    const size_t i = (first + k) % n;
+    const int s = step_sign(i);
+    if (s == 0) continue;
+    changes += s != step_sign(last);
+    last = i;
+  }
+  if (changes > 2) return "is not strictly convex: it winds round more than once (a star)";
   return {};
 }
 
