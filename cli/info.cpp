@@ -110,15 +110,13 @@ double import_tolerance = 0;
 
 void set_import_tolerance(double tolerance) { import_tolerance = tolerance; }
 
-std::vector<NamedBody> load_bodies(const std::string& path, std::vector<OpenSurface>* surfaces) {
+std::vector<NamedBody> load_bodies(const std::string& path, std::vector<SceneSurface>* surfaces) {
   std::vector<NamedBody> named;
   if (io::is_scene_path(path)) {
     Scene scene = io::read_scene(path, import_tolerance);
     // Open surfaces are not solids: `info` reports them apart, the other commands refuse them.
     if (!scene.surfaces.empty() && !surfaces) throw InvalidInput(scene.surfaces[0].not_solid);
-    for (const SceneSurface& s : scene.surfaces)
-      surfaces->push_back({s.name, s.vertices, s.edges, s.faces, s.boundary_edges, s.first_from,
-                           s.first_to, s.area});
+    if (surfaces) surfaces->insert(surfaces->end(), scene.surfaces.begin(), scene.surfaces.end());
     for (const SceneBody* b : scene.visible_bodies())
       if (!b->body.two_sided()) named.push_back({b->name, b->body, b->lod_note});
     return named;
@@ -132,35 +130,26 @@ std::vector<NamedBody> load_bodies(const std::string& path, std::vector<OpenSurf
   return named;
 }
 
-std::optional<OpenSurface> open_surface(const std::string& path) {
+std::optional<SceneSurface> open_surface(const std::string& path) {
   if (io::is_scene_path(path)) return std::nullopt;
   const PolygonSoup soup = io::read_soup(path);
   for (const auto& poly : soup.polygons)
     for (int v : poly)
       if (v < 0 || static_cast<size_t>(v) >= soup.vertices.size()) return std::nullopt;
-  const SurfaceSummary summary = summarize_surface(soup);
-  OpenSurface out;
-  out.name = std::filesystem::path(path).stem().string();
-  out.vertices = static_cast<int>(soup.vertices.size());
-  out.faces = summary.faces;
-  out.edges = summary.edges;
-  out.boundary_edges = summary.boundary.boundary_edges;
-  out.first_a = summary.boundary.first_from;
-  out.first_b = summary.boundary.first_to;
-  out.area = summary.area;
+  SceneSurface out = SceneSurface::of(std::filesystem::path(path).stem().string(), soup);
   if (out.boundary_edges == 0) return std::nullopt;
   return out;
 }
 
-nlohmann::json open_surface_json(const OpenSurface& s) {
+nlohmann::json open_surface_json(const SceneSurface& s) {
   return {{"name", s.name},        {"vertices", s.vertices},
           {"edges", s.edges},      {"faces", s.faces},
           {"closed", false},       {"boundary_edges", s.boundary_edges},
-          {"first_boundary_edge", {s.first_a, s.first_b}},
+          {"first_boundary_edge", {s.first_from, s.first_to}},
           {"area", s.area}};
 }
 
-void print_open_surface(std::ostream& out, const OpenSurface& s, bool json) {
+void print_open_surface(std::ostream& out, const SceneSurface& s, bool json) {
   if (json) {
     out << nlohmann::json{{"bodies", nlohmann::json::array({open_surface_json(s)})}}.dump(2) << "\n";
     return;
@@ -175,7 +164,7 @@ void print_open_surface(std::ostream& out, const OpenSurface& s, bool json) {
   out << std::setw(12) << s.name << std::right << ' ' << line;
   out << "open surface, not a solid (decompose, clip and convert need a closed body; hlr, shadows "
          "and render take it as two-sided faces): first boundary edge between vertices "
-      << s.first_a << " and " << s.first_b << "\n";
+      << s.first_from << " and " << s.first_to << "\n";
 }
 
 Scene load_scene(const std::string& path) {

@@ -23,36 +23,26 @@ struct NamedBody {
 /// have their nearly coplanar neighbouring faces merged and snapped within D (MergeOptions).
 void set_import_tolerance(double tolerance);
 
-struct OpenSurface;
-
 /// The bodies of a scene file (visible ones) or of a mesh file (one per component). A scene's
 /// open surfaces go to `surfaces` when given (what `info` reports), else they are refused
 /// (InvalidInput naming the scene file, the body and the first boundary edge: the solid
 /// commands). \throw InvalidInput, IoError.
 std::vector<NamedBody> load_bodies(const std::string& path,
-                                   std::vector<OpenSurface>* surfaces = nullptr);
+                                   std::vector<SceneSurface>* surfaces = nullptr);
 
 /// A scene file as it is, or a mesh file as a scene of its bodies seen parallel from
 /// (1, 2, 1.5) towards the origin, under a directional light from the same side (a mesh file
 /// has no camera or lights). What `hlr`, `shadows` and `render` read. \throw InvalidInput, IoError.
 Scene load_scene(const std::string& path);
 
-/// A mesh file whose surface is not closed (a scan, a terrain, a single face), or an open
-/// surface of a scene file: what `info` reports instead of a body.
-struct OpenSurface {
-  std::string name;
-  int vertices = 0, edges = 0, faces = 0;
-  int boundary_edges = 0;
-  int first_a = -1, first_b = -1;  // first boundary edge in file order (vertex numbers)
-  double area = 0;
-};
-
-/// The open-surface report of a mesh file, or nullopt when the file is a scene, or its
-/// surface has no boundary edge. Cost O(n log n). \throw IoError, InvalidInput (unreadable).
-std::optional<OpenSurface> open_surface(const std::string& path);
-void print_open_surface(std::ostream& out, const OpenSurface& s, bool json);
+/// The open-surface report of a mesh file whose surface is not closed (a scan, a terrain, a
+/// single face; SceneSurface::of, named after the file), or nullopt when the file is a scene,
+/// or its surface has no boundary edge. `info` reports it, and a scene's open surfaces, instead
+/// of a body. Cost O(n log n). \throw IoError, InvalidInput (unreadable).
+std::optional<SceneSurface> open_surface(const std::string& path);
+void print_open_surface(std::ostream& out, const SceneSurface& s, bool json);
 /// The report's entry of an open surface ("closed": false, boundary edges, area).
-nlohmann::json open_surface_json(const OpenSurface& s);
+nlohmann::json open_surface_json(const SceneSurface& s);
 
 /// Bodies with at most this many faces print their body matrix without --matrix.
 constexpr int kSmallBodyFaces = 12;

@@ -192,7 +192,7 @@ int main(int argc, char** argv) {
   try {
     if (*info) {
       std::vector<hedra::cli::NamedBody> bodies;
-      std::vector<hedra::cli::OpenSurface> surfaces;  // a scene's open surfaces
+      std::vector<hedra::SceneSurface> surfaces;  // a scene's open surfaces
       try {
         bodies = hedra::cli::load_bodies(info_file, &surfaces);
       } catch (const hedra::InvalidInput& e) {

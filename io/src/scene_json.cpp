@@ -480,10 +480,6 @@ class SceneReader {
   void add_surface(const JsonValue& b, const std::string& name, const JsonValue& s,
                    PolygonSoup soup, const Transform& t, const std::string& why, double tolerance,
                    Scene& scene) {
-    SceneSurface record;
-    record.name = name;
-    record.not_solid = (why.rfind(path_ + ":", 0) == 0 ? why : where(s) + context_ + why) +
-                       " (an open surface: hlr, shadows and render take it as two-sided faces)";
     if (!t.matrix().isIdentity()) {
       // As Body::transformed: projective maps must keep w > 0; reflections reverse the loops.
       for (size_t i = 0; i < soup.vertices.size(); ++i) {
@@ -494,14 +490,9 @@ class SceneReader {
       if (t.matrix().determinant() < 0)
         for (auto& poly : soup.polygons) std::reverse(poly.begin(), poly.end());
     }
-    const SurfaceSummary summary = summarize_surface(soup);
-    record.vertices = summary.vertices;
-    record.edges = summary.edges;
-    record.faces = summary.faces;
-    record.boundary_edges = summary.boundary.boundary_edges;
-    record.first_from = summary.boundary.first_from;
-    record.first_to = summary.boundary.first_to;
-    record.area = summary.area;
+    SceneSurface record = SceneSurface::of(name, soup);
+    record.not_solid = (why.rfind(path_ + ":", 0) == 0 ? why : where(s) + context_ + why) +
+                       " (an open surface: hlr, shadows and render take it as two-sided faces)";
     std::optional<Body> surface;
     try {
       surface = two_sided_surface(soup, tolerance);

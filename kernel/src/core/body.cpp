@@ -582,11 +582,11 @@ Body Body::two_sided_polygon(std::vector<Vec3> polygon, double planarity_toleran
   std::iota(outer.begin(), outer.end(), 0);
   std::reverse_copy(outer.begin(), outer.end(), inner.begin());
   std::array<int, 3> s{};
-  if (const std::string why = convex_face_defect(polygon, outer, planarity_tolerance, &s); !why.empty())
+  Vec3 outward;
+  if (const std::string why = convex_face_defect(polygon, outer, planarity_tolerance, &s, &outward); !why.empty())
     throw InvalidInput("a two-sided face " + why);
   auto impl = std::make_shared<Impl>();
   impl->two_sided = true;
-  const Vec3 outward = newell_normal(polygon, outer);
   const double length = outward.norm();
   const Vec3 unit = outward / length;
   Vec3 centre = Vec3::Zero();
@@ -655,9 +655,9 @@ Body Body::two_sided_surface(const std::vector<Vec3>& vertices, const std::vecto
     for (size_t f = begin; f != end; ++f) {
       const std::vector<int>& loop = loops[f];
       std::array<int, 3> s{};
-      defect[f] = convex_face_defect(used, loop, planarity_tolerance, &s);
+      Vec3 outward;
+      defect[f] = convex_face_defect(used, loop, planarity_tolerance, &s, &outward);
       if (!defect[f].empty()) continue;
-      const Vec3 outward = newell_normal(used, loop);
       const double length = outward.norm();
       const Vec3 unit = outward / length;
       Vec3 centre = Vec3::Zero();

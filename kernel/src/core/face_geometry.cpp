@@ -124,10 +124,11 @@ std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::
 }
 
 std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
-                               double planarity, std::array<int, 3>* support) {
+                               double planarity, std::array<int, 3>* support, Vec3* normal) {
   const size_t n = loop.size();
   if (n < 3) return "has fewer than 3 vertices";
   const Vec3 outward = newell_normal(vertices, loop);
+  if (normal) *normal = outward;
   const std::array<int, 3> s = support_triple(vertices, loop, outward);
   if (support) *support = s;
   const auto at = [&](int v) -> const Vec3& { return vertices[static_cast<size_t>(v)]; };

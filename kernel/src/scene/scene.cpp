@@ -6,6 +6,20 @@
 
 namespace hedra {
 
+SceneSurface SceneSurface::of(const std::string& name, const PolygonSoup& soup) {
+  const SurfaceSummary summary = summarize_surface(soup);
+  SceneSurface out;
+  out.name = name;
+  out.vertices = summary.vertices;
+  out.edges = summary.edges;
+  out.faces = summary.faces;
+  out.boundary_edges = summary.boundary.boundary_edges;
+  out.first_from = summary.boundary.first_from;
+  out.first_to = summary.boundary.first_to;
+  out.area = summary.area;
+  return out;
+}
+
 void Material::validate() const {
   auto fail = [](const std::string& m) { throw InvalidInput("material: " + m); };
   if (!color.allFinite() || (color.array() < 0).any() || (color.array() > 1).any())

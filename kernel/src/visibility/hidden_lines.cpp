@@ -215,12 +215,6 @@ void Roberts::prepare_bodies() {
       const bool one_face = body.two_sided() && body.face_count() == 2;
       if (options_.crease_angle > 0 && !one_face) {
         bd.classes = classify_edges(body, options_.crease_angle, surface(static_cast<int>(b)));
-        // A surface's boundary edge folds by 180°: sharp at any crease angle (at 180° rounding
-        // would decide).
-        if (body.two_sided())
-          for (int e = 0; e < body.edge_count(); ++e)
-            if (const Edge& edge = body.edges()[static_cast<size_t>(e)]; edge.left_face == body.twin_face(edge.right_face))
-              bd.classes[static_cast<size_t>(e)] = EdgeClass::Sharp;
         bd.any_smooth = std::find(bd.classes.begin(), bd.classes.end(), EdgeClass::Smooth) != bd.classes.end();
       }
       // A two-sided face is its own convex piece; a two-sided surface occludes by its faces.

@@ -39,6 +39,12 @@ std::vector<EdgeClass> classify_edges(const Body& body, double crease_angle_deg,
   parallel_chunks(edges.size(), kClassChunk, [&](size_t, size_t begin, size_t end) {
     for (size_t i = begin; i != end; ++i) {
       const Edge& e = edges[i];
+      // A two-sided body's boundary edge folds a face onto its other side (180°): sharp at any
+      // crease angle, which at 180° rounding would decide.
+      if (body.two_sided() && e.left_face == body.twin_face(e.right_face)) {
+        out[i] = EdgeClass::Sharp;
+        continue;
+      }
       const Vec3 a = outward_normal(body, e.left_face), b = outward_normal(body, e.right_face);
       const bool smooth = (curved(surface, a) && curved(surface, b)) || a.dot(b) >= cos_crease;
       out[i] = smooth ? EdgeClass::Smooth : EdgeClass::Sharp;

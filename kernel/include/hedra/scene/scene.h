@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "hedra/core/body.h"
+#include "hedra/mesh/open_surface.h"
 #include "hedra/scene/camera.h"
 #include "hedra/scene/light.h"
 #include "hedra/core/smooth_surface.h"
@@ -49,6 +50,9 @@ struct SceneSurface {
   int vertices = 0, edges = 0, faces = 0, boundary_edges = 0;
   int first_from = -1, first_to = -1;  ///< first boundary edge (vertex numbers of the input)
   double area = 0;
+  /// The counts of `soup` (summarize_surface: vertices used, edges, faces, boundary, area) under
+  /// `name`; not_solid empty. \pre every index in range. Cost O(n log n).
+  static SceneSurface of(const std::string& name, const PolygonSoup& soup);
 };
 
 struct ImageSettings {

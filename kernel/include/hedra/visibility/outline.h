@@ -21,7 +21,8 @@ namespace hedra {
 
 enum class EdgeClass { Sharp, Smooth };
 
-/// The class of each edge of body.edges(), in that order. `surface` may be none. Cost O(E).
+/// The class of each edge of body.edges(), in that order. `surface` may be none. A two-sided
+/// body's boundary edges (a face joined to its other side) are always Sharp. Cost O(E).
 std::vector<EdgeClass> classify_edges(const Body& body, double crease_angle_deg = 30,
                                       const SmoothSurface& surface = SmoothSurface());
 
