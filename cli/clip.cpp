@@ -45,7 +45,17 @@ std::vector<ConvexClipper> decomposed_pieces(const std::string& path,
       continue;
     }
     try {
-      for (const Body& piece : decompose(body).pieces) pieces.emplace_back(piece);
+      // Each piece as its exact planes where the decomposition gives them (nothing rounded),
+      // else the rounded piece.
+      DecomposeOptions options;
+      options.exact_pieces = true;
+      const Decomposition d = decompose(body, options);
+      for (size_t k = 0; k < d.pieces.size(); ++k) {
+        if (k < d.exact_pieces.size() && !d.exact_pieces[k].faces.empty())
+          pieces.push_back(ConvexClipper::from_planes(d.exact_pieces[k].faces));
+        else
+          pieces.emplace_back(d.pieces[k]);
+      }
     } catch (const InvalidInput& e) {
       throw InvalidInput(path + ": body '" + named.name + "': " + e.what());
     }

@@ -157,6 +157,88 @@ TEST(ExactPlane, CompareCrossingsIsExact) {
   EXPECT_GT(decided, 2000);
 }
 
+// A pencil plane h = g(E)·f − f(E)·g (ExactPlane::pencil): its exact coefficients are
+// multiprecision numbers, its double form is a rounded multiple of them. Reference: h's
+// definition in rational arithmetic on f's and g's own exact values.
+Rational pencil_value(const ExactPlane& f, const ExactPlane& g, const Vec3& e, bool direction,
+                      const Vec3& p) {
+  const auto at = [&](const ExactPlane& x) {
+    return direction ? testing::exact_value(x, e) - testing::exact_value(x, Vec3::Zero())
+                     : testing::exact_value(x, e);
+  };
+  return at(g) * testing::exact_value(f, p) - at(f) * testing::exact_value(g, p);
+}
+
+TEST(ExactPlane, PencilPlanesAreExactThroughTheirLineAndTheViewpoint) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int near_zero = 0;
+  for (int k = 0; k < 60; ++k) {
+    const double scale = std::pow(10.0, k % 6 * 5 - 12);  // 1e-12 … 1e13
+    const Vec3 a = scale * Vec3(u(rng), u(rng), u(rng)), b = scale * Vec3(u(rng), u(rng), u(rng)),
+               c = scale * Vec3(u(rng), u(rng), u(rng)), d = scale * Vec3(u(rng), u(rng), u(rng));
+    // Two faces of a convex piece meeting at edge ab: f through (a, b, c), g through (b, a, d).
+    const ExactPlane f = ExactPlane::through(a, b, c), g = ExactPlane::through(b, a, d);
+    const bool direction = k % 2;
+    const Vec3 e = direction ? Vec3(u(rng), u(rng), u(rng)) : Vec3(3 * scale * Vec3(u(rng), u(rng), u(rng)));
+    const ExactPlane h = ExactPlane::pencil(f, g, e, direction);
+    ASSERT_TRUE(h.by_exact());
+    // On the common line of f and g, and through the viewpoint (or parallel to the direction).
+    EXPECT_EQ(side_of_plane(h, a), Sign::Zero);
+    EXPECT_EQ(side_of_plane(h, b), Sign::Zero);
+    if (direction) {
+      EXPECT_EQ(direction_sign(h, e), Sign::Zero);
+    } else {
+      EXPECT_EQ(side_of_plane(h, e), Sign::Zero);
+    }
+    // The power of two between h's exact function and its double form.
+    const Vec3 far = a + 1e3 * scale * h.normal().normalized();
+    const Rational ratio = pencil_value(f, g, e, direction, far) / Rational(h.value(far));
+    ASSERT_GT(ratio, 0);
+    for (int i = 0; i < 100; ++i) {
+      // Random points, points near the edge and points on the line through a and b.
+      const double t = u(rng);
+      const Vec3 p = i % 3 == 0 ? Vec3(scale * Vec3(u(rng), u(rng), u(rng)))
+                     : i % 3 == 1 ? Vec3(a + t * (b - a) + 1e-9 * scale * Vec3(u(rng), u(rng), u(rng)))
+                                  : Vec3(a + t * (b - a));
+      const Rational exact = pencil_value(f, g, e, direction, p);
+      EXPECT_EQ(side_of_plane(h, p), sign_of(exact));
+      EXPECT_EQ(side_of_plane(h.flipped(), p), -sign_of(exact));
+      EXPECT_LE(testing::to_double(CGAL::abs(Rational(h.value(p)) - exact / ratio)),
+                h.error_bound(p.cwiseAbs().maxCoeff()));
+      if (CGAL::abs(exact / ratio) < h.error_bound(p.cwiseAbs().maxCoeff())) ++near_zero;
+      // direction_sign: n_h·v.
+      const Vec3 v(u(rng), u(rng), u(rng));
+      const Rational along = pencil_value(f, g, e, direction, v) - pencil_value(f, g, e, direction, Vec3::Zero());
+      EXPECT_EQ(direction_sign(h, v), sign_of(along));
+    }
+    // The pencil of a pencil (coefficients already multiprecision): still exact.
+    const ExactPlane h2 = ExactPlane::pencil(h, f, c, false);
+    for (int i = 0; i < 20; ++i) {
+      const Vec3 p = scale * Vec3(u(rng), u(rng), u(rng));
+      const Rational hc = pencil_value(f, g, e, direction, c), fc = testing::exact_value(f, c);
+      const Rational exact = fc * pencil_value(f, g, e, direction, p) - hc * testing::exact_value(f, p);
+      EXPECT_EQ(side_of_plane(h2, p), sign_of(exact));
+    }
+    EXPECT_EQ(side_of_plane(h2, c), Sign::Zero);
+  }
+  EXPECT_GT(near_zero, 200);  // the exact stage was asked
+}
+
+TEST(ExactPlane, PencilOfParallelPlanesIsRefused) {
+  const ExactPlane f = ExactPlane::through({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const ExactPlane g = ExactPlane::through({0, 0, 1}, {0, 1, 1}, {1, 0, 1});
+  // One plane twice: h vanishes identically.
+  EXPECT_THROW(ExactPlane::pencil(f, f, {0, 0, 5}, false), InvalidInput);
+  // Parallel planes seen along their normal: h is a nonzero constant, no plane.
+  EXPECT_THROW(ExactPlane::pencil(f, g, {0, 0, 1}, true), InvalidInput);
+  // Parallel planes and a point: the parallel plane through the point (their line is at
+  // infinity).
+  const ExactPlane h = ExactPlane::pencil(f, g, {0, 0, 5}, false);
+  EXPECT_EQ(side_of_plane(h, {3, -2, 5}), Sign::Zero);
+  EXPECT_NE(side_of_plane(h, {3, -2, 4}), Sign::Zero);
+}
+
 TEST(ExactPlane, BadPlanes) {
   EXPECT_THROW(ExactPlane::through({0, 0, 0}, {1, 1, 1}, {2, 2, 2}), InvalidInput);
   EXPECT_THROW(ExactPlane::from_coefficients(Plane(0, 0, 0, 1)), InvalidInput);

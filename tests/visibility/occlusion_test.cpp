@@ -6,6 +6,7 @@
 #include <random>
 
 #include "hedra/core/primitives.h"
+#include "hedra/decompose/decompose.h"
 
 namespace hedra {
 namespace {
@@ -157,6 +158,58 @@ TEST(Occlusion, SilhouetteVolumeIsTheVolumeLessItsFrontPlanes) {
       EXPECT_EQ(q.negated(), ps[i].negated()) << trial << " " << i;
     }
   }
+}
+
+// The volume of an exact piece from its planes alone (pencil planes through its silhouette
+// edges) against the volume of the same piece as a Body (planes through its corners), where
+// the two are one polyhedron: the pieces of an axis-aligned non-convex prism, whose corners are
+// all doubles. Exact sides of random points, of the pieces' corners and of points on their
+// edges (the ties), for eyes and directions, must agree.
+TEST(Occlusion, ExactPieceVolumeEqualsThePieceBodys) {
+  const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
+  const Body holed = prism({{0, 0}, {4, 0}, {4, 3}, {0, 3}}, 0, 2, {{{1, 1}, {3, 1}, {3, 2}, {1, 2}}});
+  std::mt19937_64 rng(21);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int hidden = 0, checked = 0;
+  for (const Body& body : {l, holed}) {
+    DecomposeOptions options;
+    options.exact_pieces = true;
+    const Decomposition d = decompose(body, options);
+    ASSERT_GT(d.pieces.size(), 1u);
+    for (int trial = 0; trial < 40; ++trial) {
+      const Vec3 far(6 * u(rng), 6 * u(rng), 6 + 4 * u(rng));
+      const Viewpoint view = trial % 2 ? Viewpoint::towards(-far) : Viewpoint::at(far + Vec3(2, 1.5, 1));
+      for (size_t k = 0; k < d.pieces.size(); ++k) {
+        ASSERT_FALSE(d.exact_pieces[k].faces.empty());
+        const OcclusionVolume exact = occlusion_volume(d.exact_pieces[k], view);
+        const OcclusionVolume rounded = occlusion_volume(d.pieces[k], view);
+        ASSERT_EQ(exact.clipper.has_value(), rounded.clipper.has_value());
+        EXPECT_EQ(exact.front_faces.size(), rounded.front_faces.size());
+        if (exact.clipper) {
+          EXPECT_EQ(exact.clipper->plane_count(), rounded.clipper->plane_count());
+          for (const ExactPlane& f : exact.clipper->planes()) EXPECT_TRUE(f.by_points() || f.by_exact());
+        }
+        std::vector<Vec3> points;
+        const auto& v = d.pieces[k].vertices();
+        for (int i = 0; i < 200; ++i) points.push_back(Vec3(2 + 3 * u(rng), 1.5 + 3 * u(rng), 1 + 3 * u(rng)));
+        for (const Vec3& p : v) points.push_back(p);
+        for (const Edge& e : d.pieces[k].edges()) {
+          const Vec3 &a = v[static_cast<size_t>(e.v0)], &b = v[static_cast<size_t>(e.v1)];
+          points.push_back(0.5 * (a + b));
+          // Beyond the edge, away from the viewpoint: on its silhouette plane when it is one.
+          const Vec3 ray = view.ray_to(0.5 * (a + b));
+          points.push_back(0.5 * (a + b) + 0.5 * ray);
+        }
+        for (const Vec3& p : points) {
+          const bool h = hides(exact, p);
+          EXPECT_EQ(h, hides(rounded, p)) << "piece " << k << " trial " << trial;
+          hidden += h;
+          ++checked;
+        }
+      }
+    }
+  }
+  EXPECT_GT(hidden, checked / 20);
 }
 
 }  // namespace

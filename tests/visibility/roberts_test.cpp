@@ -14,6 +14,7 @@
 #include "hedra/decompose/decompose.h"
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
+#include "hedra/mesh/merge_coplanar.h"
 
 namespace hedra {
 namespace {
@@ -613,6 +614,57 @@ TEST(Roberts, RotatedNonConvexBodiesLeaveNoSliversAtEdgeEnds) {
       EXPECT_NEAR(r.length(LineKind::Edge), expected, 1e-9 * expected) << "scene " << scene;
     }
   }
+}
+
+// The same scenes as float32 triangle soups (a rotated part exported as STL): each quad is two
+// triangles planar only together within float rounding, so every piece has corners that are
+// cut points. Their occlusion volumes come from the exact pieces' planes
+// (Decomposition::exact_pieces, pencil planes through the silhouette edges), so no end of a
+// hidden part is set by a rounded piece. Reference: the ray-cast visible length over the
+// double bodies' convex parts (the soup is within float rounding of them, 1e-7).
+TEST(Roberts, RotatedFloat32PartsAreDrawnWithTheirExactPieces) {
+  const auto float32 = [](const Body& body) {
+    PolygonSoup soup;
+    for (const Vec3& p : body.vertices())
+      soup.vertices.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    for (const Triangle& t : body.triangles()) soup.polygons.push_back({t.v[0], t.v[1], t.v[2]});
+    return bodies_from_soup(soup).at(0);
+  };
+  const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
+  const Body plate = prism({{5, 0}, {9, 0}, {9, 4}, {5, 4}}, 0, 0.5, {{{6, 1}, {8, 1}, {8, 3}, {6, 3}}});
+  std::mt19937 random(20261207);
+  std::uniform_real_distribution<double> u(0, 1);
+  int exact_pieces = 0, slivers = 0;
+  for (int scene = 0; scene < 6; ++scene) {
+    const double ax = 360 * u(random), az = 360 * u(random);
+    const Vec3 centre(4.5, 2, 0.5);
+    const auto turn = [&](const Body& b) { return b.rotated_x(ax, centre).rotated_z(az, centre); };
+    const std::vector<Body> bodies{float32(turn(l)), float32(turn(plate))};
+    for (const Body& b : bodies) {
+      DecomposeOptions options;
+      options.exact_pieces = true;
+      for (const ExactConvex& e : decompose(b, options).exact_pieces) exact_pieces += !e.faces.empty();
+    }
+    for (bool perspective : {false, true}) {
+      const Camera camera = random_camera(random, perspective);
+      HlrOptions o;
+      o.hidden = true;  // the default crease angle: the soup's diagonals are smooth, not drawn
+      const HlrResult r = hidden_lines(bodies, camera, o);
+      for (const auto* list : {&r.visible, &r.hidden})
+        for (const HlrSegment& s : *list) slivers += (s.b - s.a).norm() < 1e-9;
+      // The double bodies' drawing (checked against ray casting in the test above): the soup
+      // is within float rounding of them.
+      const HlrResult twin = hidden_lines(std::vector<Body>{turn(l), turn(plate)}, camera, o);
+      const double expected = twin.length(LineKind::Edge);
+      EXPECT_GT(expected, 1);
+      EXPECT_NEAR(r.length(LineKind::Edge), expected, 1e-6 * expected) << "scene " << scene;
+    }
+  }
+  EXPECT_GT(exact_pieces, 6 * 4);  // the pieces are exactly convex: the exact path is the one taken
+  // With the rounded pieces' volumes: 5 slivers (1e-16 … 1e-15) and one drawing 0.75 too long
+  // (1.3 %). With the exact pieces' volumes: one hidden part 5e-16 long at the end of a vertical
+  // edge of the L in scene 4 (both views), not explained yet (docs/stability.md).
+  EXPECT_LE(slivers, 2);
 }
 
 TEST(Roberts, PerspectiveWithTheEyeClose) {

@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "core/exact_plane.h"
 #include "hedra/core/error.h"
 #include "hedra/core/tolerance.h"
 
@@ -53,25 +54,11 @@ Bound bound_of(std::span<const ConvexClipper> pieces, const ClipEnd& end, const 
 
 using Q = CGAL::Mpzf;
 
-// f(p) exactly: the plane's defining form on exact products of doubles (as the predicates
+// f(p) exactly, from the plane's exact coefficients (as the predicates
 // evaluate it).
 Q exact_value(const ExactPlane& f, const Vec3& p) {
-  Q value(0);
-  if (f.by_points()) {
-    const Vec3 &a = f.points()[0], &b = f.points()[1], &c = f.points()[2];
-    const Q bax = Q(b.x()) - Q(a.x()), bay = Q(b.y()) - Q(a.y()), baz = Q(b.z()) - Q(a.z());
-    // Through a direction: c is the direction itself, not a point.
-    const Q cax = f.by_direction() ? Q(c.x()) : Q(c.x()) - Q(a.x());
-    const Q cay = f.by_direction() ? Q(c.y()) : Q(c.y()) - Q(a.y());
-    const Q caz = f.by_direction() ? Q(c.z()) : Q(c.z()) - Q(a.z());
-    const Q pax = Q(p.x()) - Q(a.x()), pay = Q(p.y()) - Q(a.y()), paz = Q(p.z()) - Q(a.z());
-    value = Q(0) - (bax * (cay * paz - caz * pay) - bay * (cax * paz - caz * pax) +
-                    baz * (cax * pay - cay * pax));
-  } else {
-    const Vec4& k = f.coefficients().coefficients;
-    value = Q(k[0]) * Q(p.x()) + Q(k[1]) * Q(p.y()) + Q(k[2]) * Q(p.z()) + Q(k[3]);
-  }
-  return f.negated() ? Q(0) - value : value;
+  const std::array<Q, 4> c = internal::exact_coefficients(f);
+  return c[0] * Q(p.x()) + c[1] * Q(p.y()) + c[2] * Q(p.z()) + c[3];
 }
 
 // Whether c is num/den (den > 0) rounded to nearest, ties to even: num/den lies strictly

@@ -1,6 +1,9 @@
 #include "hedra/core/predicates.h"
 
 #include "core/filtered_sign.h"
+#include "core/exact_plane.h"
+
+#include <CGAL/Gmpq.h>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Interval_nt.h>
@@ -10,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 #include "hedra/core/error.h"
 
@@ -234,7 +238,18 @@ using internal::filtered_sign;
 template <class T>
 T exact_plane_value(const ExactPlane& f, const Vec3& p) {
   T value(0);
-  if (f.by_points_) {
+  if (f.exact_) {
+    // Exact coefficients: the Mpzf stage evaluates them; the interval stage their enclosures
+    // (a positive multiple of the same function, so every sign agrees).
+    if constexpr (std::is_same_v<T, CGAL::Mpzf>) {
+      const auto& c = f.exact_->c;
+      value = c[0] * T(p.x()) + c[1] * T(p.y()) + c[2] * T(p.z()) + c[3];
+    } else {
+      const auto& c = f.exact_->interval;
+      value = T(c[0].first, c[0].second) * T(p.x()) + T(c[1].first, c[1].second) * T(p.y()) +
+              T(c[2].first, c[2].second) * T(p.z()) + T(c[3].first, c[3].second);
+    }
+  } else if (f.by_points_) {
     const Vec3 &a = f.points_[0], &b = f.points_[1], &c = f.points_[2];
     const T bax = T(b.x()) - T(a.x()), bay = T(b.y()) - T(a.y()), baz = T(b.z()) - T(a.z());
     // Through a direction: c is the direction itself, not a point.
@@ -360,6 +375,117 @@ ExactPlane ExactPlane::from_coefficients(const Plane& plane) {
   return f;
 }
 
+namespace {
+
+// x = m·2^e with m in [0.5, 1) truncated toward zero (|m − exact| < 2^-53), or (0, 0).
+std::pair<double, long> mantissa_exponent(const CGAL::Mpzf& x) {
+  if (CGAL::sign(x) == CGAL::ZERO) return {0.0, 0};
+  // Exactly as a rational (Mpzf's own export, any exponent); its denominator is a power of 2.
+  const CGAL::Gmpq q(x);
+  long e = 0;
+  const double m = mpz_get_d_2exp(&e, mpq_numref(q.mpq()));
+  return {m, e - static_cast<long>(mpz_sizeinbase(mpq_denref(q.mpq()), 2)) + 1};
+}
+
+}  // namespace
+
+ExactPlane ExactPlane::from_exact(std::shared_ptr<const internal::ExactCoefficients> coefficients) {
+  if (!coefficients) throw InvalidInput("plane without coefficients");
+  const auto& c = coefficients->c;
+  std::array<std::pair<double, long>, 4> me;
+  for (size_t i = 0; i < 4; ++i) me[i] = mantissa_exponent(c[i]);
+  long top = std::numeric_limits<long>::min();
+  for (size_t i = 0; i < 3; ++i)
+    if (me[i].first != 0) top = std::max(top, me[i].second);
+  if (top == std::numeric_limits<long>::min()) throw InvalidInput("plane with a zero normal");
+  // F = f / 2^(top − 1): the largest |n_i| in [1, 2). Each coefficient of F is m·2^(e − top + 1),
+  // m truncated (relative error below 2u); ldexp rounds only in the subnormal range (kTiny).
+  ExactPlane f;
+  double approx[4], radius[4];
+  for (size_t i = 0; i < 4; ++i) {
+    const long shift = me[i].second - top + 1;
+    if (me[i].first == 0 || shift < -1100) {
+      approx[i] = 0.0;  // zero, or below the subnormal range
+      radius[i] = me[i].first == 0 ? 0.0 : kTiny;
+    } else {
+      if (shift > 1100) throw InvalidInput("plane too far from the origin for the size of its normal");
+      approx[i] = std::ldexp(me[i].first, static_cast<int>(shift));
+      radius[i] = 4 * kUnit * std::abs(approx[i]) + 2 * kTiny;
+    }
+  }
+  if (!std::isfinite(approx[3]) || !std::isfinite(radius[3]))
+    throw InvalidInput("plane too far from the origin for the size of its normal");
+  auto exact = std::make_shared<internal::ExactCoefficients>(*coefficients);
+  double slope = 0;
+  for (size_t i = 0; i < 4; ++i) {
+    exact->interval[i] = {approx[i] - radius[i], approx[i] + radius[i]};
+    if (i < 3) {
+      f.n_[static_cast<int>(i)] = approx[i];
+      slope += gamma_n(4) * std::abs(approx[i]) + radius[i];
+    }
+  }
+  f.k_ = approx[3];
+  f.slope_ = slope * kBoundInflation;
+  f.offset_ = (gamma_n(4) * std::abs(f.k_) + radius[3] + 8 * kTiny) * kBoundInflation;
+  f.exact_ = std::move(exact);
+  return f;
+}
+
+ExactPlane ExactPlane::pencil(const ExactPlane& f, const ExactPlane& g, const Vec3& e,
+                              bool e_is_direction) {
+  if (!e.allFinite()) throw InvalidInput("pencil plane through a point that is not finite");
+  using Q = CGAL::Mpzf;
+  const std::array<Q, 4> a = internal::exact_coefficients(f), b = internal::exact_coefficients(g);
+  const Q ex(e.x()), ey(e.y()), ez(e.z());
+  Q fe = a[0] * ex + a[1] * ey + a[2] * ez, ge = b[0] * ex + b[1] * ey + b[2] * ez;
+  if (!e_is_direction) {
+    fe = fe + a[3];
+    ge = ge + b[3];
+  }
+  auto h = std::make_shared<internal::ExactCoefficients>();
+  for (size_t i = 0; i < 4; ++i) h->c[i] = ge * a[i] - fe * b[i];
+  if (CGAL::sign(h->c[0]) == CGAL::ZERO && CGAL::sign(h->c[1]) == CGAL::ZERO &&
+      CGAL::sign(h->c[2]) == CGAL::ZERO)
+    throw InvalidInput("pencil plane of two parallel planes, or through a point on both");
+  return from_exact(std::move(h));
+}
+
+namespace internal {
+
+std::array<CGAL::Mpzf, 4> exact_coefficients(const ExactPlane& f) {
+  using Q = CGAL::Mpzf;
+  std::array<Q, 4> h{Q(0), Q(0), Q(0), Q(0)};
+  if (const ExactCoefficients* e = f.exact_coefficients()) {
+    h = e->c;
+  } else if (f.by_points()) {
+    // f(p) = −det[b − a, c', p − a] = (p − a)·(c' × (b − a)), c' = c − a or the direction c.
+    const auto& p = f.points();
+    std::array<Q, 3> ba, ca;
+    for (int i = 0; i < 3; ++i) {
+      ba[static_cast<size_t>(i)] = Q(p[1][i]) - Q(p[0][i]);
+      ca[static_cast<size_t>(i)] = f.by_direction() ? Q(p[2][i]) : Q(p[2][i]) - Q(p[0][i]);
+    }
+    h[0] = ca[1] * ba[2] - ca[2] * ba[1];
+    h[1] = ca[2] * ba[0] - ca[0] * ba[2];
+    h[2] = ca[0] * ba[1] - ca[1] * ba[0];
+    h[3] = Q(0) - (h[0] * Q(p[0][0]) + h[1] * Q(p[0][1]) + h[2] * Q(p[0][2]));
+  } else {
+    const Vec4& c = f.coefficients().coefficients;
+    for (int i = 0; i < 4; ++i) h[static_cast<size_t>(i)] = Q(c[i]);
+  }
+  if (f.negated())
+    for (Q& v : h) v = Q(0) - v;
+  return h;
+}
+
+ExactPlane plane_from_exact(const std::array<CGAL::Mpzf, 4>& c) {
+  auto h = std::make_shared<ExactCoefficients>();
+  h->c = c;
+  return ExactPlane::from_exact(std::move(h));
+}
+
+}  // namespace internal
+
 ExactPlane ExactPlane::flipped() const {
   ExactPlane f = *this;
   f.negated_ = !negated_;
@@ -405,6 +531,14 @@ Sign direction_sign(const ExactPlane& f, const Vec3& d) {
       const T det = bax * (cay * T(d.z()) - caz * T(d.y())) - bay * (cax * T(d.z()) - caz * T(d.x())) +
                     baz * (cax * T(d.y()) - cay * T(d.x()));
       value = T(0) - det;
+    } else if (const internal::ExactCoefficients* e = f.exact_coefficients()) {
+      if constexpr (std::is_same_v<T, CGAL::Mpzf>) {
+        value = e->c[0] * T(d.x()) + e->c[1] * T(d.y()) + e->c[2] * T(d.z());
+      } else {
+        const auto& c = e->interval;
+        value = T(c[0].first, c[0].second) * T(d.x()) + T(c[1].first, c[1].second) * T(d.y()) +
+                T(c[2].first, c[2].second) * T(d.z());
+      }
     } else {
       const Vec4& k = f.coefficients().coefficients;
       value = T(k[0]) * T(d.x()) + T(k[1]) * T(d.y()) + T(k[2]) * T(d.z());

@@ -4,10 +4,13 @@
 #include "hedra/decompose/decompose.h"
 #include "decompose/decompose_internal.h"
 #include "decompose/split_internal.h"
+#include "core/exact_plane.h"
 
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+#include <CGAL/Gmpz.h>
+#include <CGAL/Mpzf.h>
 
 #include <algorithm>
 #include <list>
@@ -15,6 +18,7 @@
 #include <numeric>
 #include <limits>
 #include <optional>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -550,6 +554,280 @@ std::vector<Piece> merge_pieces(const Context& ctx, std::vector<Piece> pieces, i
 
 namespace {
 
+// ---- The exact pieces as planes (Decomposition::exact_pieces) -----------------------------
+
+static_assert(std::is_same_v<EK::FT::ET, mpq_class>, "Epeck's exact numbers are expected to be mpq_class");
+
+// An exact point as homogeneous integers (X, Y, Z, W), W > 0: its rational coordinates over
+// their least common denominator.
+std::array<mpz_class, 4> homogeneous(const P3& p) {
+  const mpq_class x = CGAL::exact(p.x()), y = CGAL::exact(p.y()), z = CGAL::exact(p.z());
+  std::array<mpz_class, 4> h;
+  mpz_lcm(h[3].get_mpz_t(), x.get_den_mpz_t(), y.get_den_mpz_t());
+  mpz_lcm(h[3].get_mpz_t(), h[3].get_mpz_t(), z.get_den_mpz_t());
+  const mpq_class* c[3] = {&x, &y, &z};
+  for (size_t i = 0; i < 3; ++i) {
+    mpz_divexact(h[i].get_mpz_t(), h[3].get_mpz_t(), c[i]->get_den_mpz_t());
+    h[i] *= c[i]->get_num();
+  }
+  return h;
+}
+
+// The plane through three exact points as integer coefficients (the 3 × 3 minors of their
+// homogeneous coordinates: no rational arithmetic, so no gcd), Positive on the side of
+// `inner`, an exact point off the plane. Kept as Mpzf.
+ExactPlane plane_through_exact(const P3& a, const P3& b, const P3& c, const P3& inner) {
+  const std::array<mpz_class, 4> p = homogeneous(a), q = homogeneous(b), r = homogeneous(c);
+  // det of columns (i, j, k) over the three rows.
+  const auto det = [&](size_t i, size_t j, size_t k) -> mpz_class {
+    return p[i] * (q[j] * r[k] - q[k] * r[j]) - p[j] * (q[i] * r[k] - q[k] * r[i]) +
+           p[k] * (q[i] * r[j] - q[j] * r[i]);
+  };
+  std::array<mpz_class, 4> h = {det(1, 2, 3), -det(0, 2, 3), det(0, 1, 3), -det(0, 1, 2)};
+  const std::array<mpz_class, 4> s = homogeneous(inner);
+  const mpz_class at = h[0] * s[0] + h[1] * s[1] + h[2] * s[2] + h[3] * s[3];
+  if (sgn(at) == 0) throw InternalError("decompose: an exact piece is flat (a face through its inner point)");
+  std::array<CGAL::Mpzf, 4> out;
+  for (size_t i = 0; i < 4; ++i) {
+    if (sgn(at) < 0) h[i] = -h[i];
+    // CGAL::Mpzf's constructor from an mpz drops its sign (and cannot take zero): built from
+    // the magnitude, then negated.
+    if (sgn(h[i]) == 0) {
+      out[i] = CGAL::Mpzf(0);
+    } else {
+      const mpz_class magnitude = abs(h[i]);
+      out[i] = CGAL::Mpzf(magnitude);
+      if (sgn(h[i]) < 0) out[i] = CGAL::Mpzf(0) - out[i];
+    }
+  }
+  return internal::plane_from_exact(out);
+}
+
+// The exact piece as planes, when it is exactly convex. A face is a set of the piece's
+// triangles on one plane: those exactly on their canonical plane (every corner on it exactly,
+// by construction or by the exact test) are one face with that plane, through the canonical
+// plane's three input vertices; the others (a corner on it only within the rounding guard)
+// are grouped by exact coplanarity and get the plane of three exact corners. The guarded run
+// decides convexity in its model, where input vertices within the guard of a plane lie on it;
+// the exact piece can then fold by an ulp across such a face. So the piece is checked: an
+// inner point strictly inside every face plane, and every edge convex (the triangles on one
+// side of it inside the face plane of the other). A connected closed surface convex at every
+// edge bounds a convex body. nullopt when a check fails (the caller keeps the rounded piece).
+// Cost O(T) for T triangles, with a few exact orientations each.
+std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& model, const Piece& piece) {
+  ExactConvex out;
+  const auto point = [&](int v) -> const P3& { return piece.pts[static_cast<size_t>(v)].p; };
+  const auto exactly_on = [&](int v, int c) {
+    const Point& q = piece.pts[static_cast<size_t>(v)];
+    if (std::binary_search(q.on.begin(), q.on.end(), c) && !std::binary_search(q.loose.begin(), q.loose.end(), c))
+      return true;
+    // An input vertex: orient3d on the plane's support triple (doubles, hedra's filter and
+    // Mpzf), much cheaper than the exact evaluation of the lazy plane when it is close.
+    if (q.origin >= 0) {
+      const auto& sp = model.support[static_cast<size_t>(c)];
+      return orient3d(sp[0], sp[1], sp[2], q.input) == Sign::Zero;
+    }
+    return ctx.planes[static_cast<size_t>(c)].has_on(q.p);
+  };
+  // A point strictly inside the piece, if it is convex: the centroid of four corners not on
+  // one plane (exact).
+  std::optional<P3> inside;
+  {
+    std::vector<int> used;
+    for (const Tri& t : piece.tris) used.insert(used.end(), t.v.begin(), t.v.end());
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    // Four corners far from coplanar, chosen in double (the first corners of a piece often lie
+    // on one face, where the exact test of a rotated body's cut points is the slow case): the
+    // farthest from the first, from their line, from their plane. One exact test confirms.
+    std::vector<Vec3> r(used.size());
+    for (size_t i = 0; i < used.size(); ++i) r[i] = rounded(point(used[i]));
+    const auto farthest = [&](auto&& distance) {
+      size_t best = 0;
+      double d = -1;
+      for (size_t i = 0; i < r.size(); ++i)
+        if (const double x = distance(r[i]); x > d) d = x, best = i;
+      return best;
+    };
+    const size_t i0 = 0;
+    const size_t i1 = farthest([&](const Vec3& p) { return (p - r[i0]).squaredNorm(); });
+    const size_t i2 = farthest([&](const Vec3& p) { return (p - r[i0]).cross(r[i1] - r[i0]).squaredNorm(); });
+    const Vec3 n = (r[i1] - r[i0]).cross(r[i2] - r[i0]);
+    const size_t i3 = farthest([&](const Vec3& p) { return std::abs((p - r[i0]).dot(n)); });
+    const auto at = [&](size_t i) -> const P3& { return point(used[i]); };
+    if (CGAL::orientation(at(i0), at(i1), at(i2), at(i3)) == CGAL::COPLANAR) return std::nullopt;
+    inside = CGAL::centroid(at(i0), at(i1), at(i2), at(i3));
+  }
+  // Orientation of four corners: on their doubles (hedra's filtered orient3d, CGAL's
+  // convention) when all four are input vertices, which is fast also when they are coplanar;
+  // else on the exact points.
+  const auto orientation = [&](int i, int j, int k, int l) {
+    const Point &a = piece.pts[static_cast<size_t>(i)], &b = piece.pts[static_cast<size_t>(j)],
+                &c = piece.pts[static_cast<size_t>(k)], &d = piece.pts[static_cast<size_t>(l)];
+    if (a.origin >= 0 && b.origin >= 0 && c.origin >= 0 && d.origin >= 0)
+      return static_cast<CGAL::Orientation>(static_cast<int>(orient3d(a.input, b.input, c.input, d.input)));
+    return CGAL::orientation(a.p, b.p, c.p, d.p);
+  };
+  // Per face, how to decide a corner's side (+1 inside, 0 on, −1 outside): its canonical plane
+  // and sign, or three corners and the orientation of `inside`.
+  struct FaceRef {
+    int plane = -1, sign = 0;  // a face exactly on canonical plane `plane`
+    int canonical = -1, canonical_sign = 0;  // else the canonical plane its triangles round to
+    std::array<int, 3> v{};
+    CGAL::Orientation inner = CGAL::COPLANAR;
+  };
+  std::vector<FaceRef> refs;
+  const auto side = [&](int face, int v) {
+    const FaceRef& r = refs[static_cast<size_t>(face)];
+    const Point& q = piece.pts[static_cast<size_t>(v)];
+    if (r.plane >= 0) {
+      // Sign +1: the piece lies on the canonical plane's negative side.
+      if (std::binary_search(q.on.begin(), q.on.end(), r.plane) &&
+          !std::binary_search(q.loose.begin(), q.loose.end(), r.plane))
+        return 0;
+      if (q.origin >= 0) {
+        // The support triple is ordered so that orient3d is Positive on the positive side.
+        const auto& sp = model.support[static_cast<size_t>(r.plane)];
+        const Sign o = orient3d(sp[0], sp[1], sp[2], q.input);
+        return o == Sign::Zero ? 0 : ((o == Sign::Negative) == (r.sign > 0) ? 1 : -1);
+      }
+      const CGAL::Oriented_side o = ctx.planes[static_cast<size_t>(r.plane)].oriented_side(q.p);
+      return o == CGAL::ON_ORIENTED_BOUNDARY ? 0 : ((o == CGAL::ON_NEGATIVE_SIDE) == (r.sign > 0) ? 1 : -1);
+    }
+    if (std::find(r.v.begin(), r.v.end(), v) != r.v.end()) return 0;
+    const CGAL::Orientation o = orientation(r.v[0], r.v[1], r.v[2], v);
+    return o == CGAL::COPLANAR ? 0 : (o == r.inner ? 1 : -1);
+  };
+  std::map<std::pair<int, int>, int> on_canonical;  // (plane, sign) → face
+  std::vector<int> face_of(piece.tris.size());
+  for (size_t t = 0; t < piece.tris.size(); ++t) {
+    const Tri& tri = piece.tris[t];
+    const bool exact = ctx.exact_planes || (exactly_on(tri.v[0], tri.plane) && exactly_on(tri.v[1], tri.plane) &&
+                                            exactly_on(tri.v[2], tri.plane));
+    if (exact) {
+      const auto [it, fresh] = on_canonical.emplace(std::make_pair(tri.plane, tri.sign), static_cast<int>(out.faces.size()));
+      if (fresh) {
+        const auto& sp = model.support[static_cast<size_t>(tri.plane)];
+        // Sign +1: the piece lies on the plane's negative side, which is through()'s positive.
+        const ExactPlane f = ExactPlane::through(sp[0], sp[1], sp[2]);
+        out.faces.push_back(tri.sign > 0 ? f : f.flipped());
+        refs.push_back({tri.plane, tri.sign, -1, 0, {}, CGAL::COPLANAR});
+        // The inner point strictly inside (Sign +1: on the plane's negative side).
+        const CGAL::Oriented_side o = ctx.planes[static_cast<size_t>(tri.plane)].oriented_side(*inside);
+        if (o == CGAL::ON_ORIENTED_BOUNDARY || (o == CGAL::ON_NEGATIVE_SIDE) != (tri.sign > 0)) return std::nullopt;
+      }
+      face_of[t] = it->second;
+      continue;
+    }
+    // A triangle of collinear exact corners (a cap's zero-area sliver) spans no plane: its
+    // edges only join the faces around it (below).
+    const Vec3 r0 = rounded(point(tri.v[0])), r1 = rounded(point(tri.v[1])), r2 = rounded(point(tri.v[2]));
+    const double span = std::max({(r1 - r0).squaredNorm(), (r2 - r0).squaredNorm(), (r2 - r1).squaredNorm()});
+    const bool wide = (r1 - r0).cross(r2 - r0).squaredNorm() > 1e-20 * span * span;  // far from collinear
+    if (!wide && CGAL::collinear(point(tri.v[0]), point(tri.v[1]), point(tri.v[2]))) {
+      face_of[t] = -1;
+      continue;
+    }
+    int face = -1;
+    for (size_t f = 0; f < refs.size() && face < 0; ++f) {
+      const FaceRef& r = refs[f];
+      if (r.plane >= 0 || r.canonical != tri.plane || r.canonical_sign != tri.sign) continue;
+      if (side(static_cast<int>(f), tri.v[0]) == 0 && side(static_cast<int>(f), tri.v[1]) == 0 &&
+          side(static_cast<int>(f), tri.v[2]) == 0)
+        face = static_cast<int>(f);
+    }
+    if (face < 0) {
+      FaceRef r;
+      r.canonical = tri.plane;
+      r.canonical_sign = tri.sign;
+      r.v = tri.v;
+      r.inner = CGAL::orientation(point(tri.v[0]), point(tri.v[1]), point(tri.v[2]), *inside);
+      if (r.inner == CGAL::COPLANAR) return std::nullopt;
+      face = static_cast<int>(out.faces.size());
+      refs.push_back(r);
+      out.faces.emplace_back();  // its plane once the piece is known to be convex (below)
+    }
+    face_of[t] = face;
+  }
+  // Faces meeting at an edge: the faces of the triangles on each edge, where they differ. The
+  // edges of a zero-area triangle lie on one segment: they are one group, whose faces all meet
+  // along it.
+  std::unordered_map<std::uint64_t, int> edge_id;
+  edge_id.reserve(piece.tris.size() * 3);
+  std::vector<int> parent;
+  std::vector<std::pair<int, int>> edge_tris;  // (edge group, triangle)
+  const auto find = [&](int x) {
+    while (parent[static_cast<size_t>(x)] != x)
+      x = parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+    return x;
+  };
+  for (size_t t = 0; t < piece.tris.size(); ++t) {
+    const auto& v = piece.tris[t].v;
+    int ids[3];
+    for (int i = 0; i < 3; ++i) {
+      const int a = std::min(v[static_cast<size_t>(i)], v[static_cast<size_t>((i + 1) % 3)]);
+      const int b = std::max(v[static_cast<size_t>(i)], v[static_cast<size_t>((i + 1) % 3)]);
+      const auto [it, fresh] = edge_id.emplace(key(a, b), static_cast<int>(parent.size()));
+      if (fresh) parent.push_back(it->second);
+      ids[i] = it->second;
+      if (face_of[t] >= 0) edge_tris.emplace_back(it->second, static_cast<int>(t));
+    }
+    if (face_of[t] < 0)
+      for (int i = 1; i < 3; ++i) parent[static_cast<size_t>(find(ids[i]))] = find(ids[0]);
+  }
+  for (auto& [e, t] : edge_tris) e = find(e);
+  std::sort(edge_tris.begin(), edge_tris.end());
+  for (size_t i = 0; i < edge_tris.size();) {
+    size_t j = i;
+    while (j < edge_tris.size() && edge_tris[j].first == edge_tris[i].first) ++j;
+    for (size_t x = i; x < j; ++x)
+      for (size_t y = i; y < j; ++y) {
+        const int tx = edge_tris[x].second, ty = edge_tris[y].second;
+        const int fx = face_of[static_cast<size_t>(tx)], fy = face_of[static_cast<size_t>(ty)];
+        if (fx == fy) continue;
+        // Convex at this edge: y's corners inside x's face plane (or on it). Corners on it by
+        // construction are not asked (an exact test of a point on a plane is the slow case).
+        const auto& vx = piece.tris[static_cast<size_t>(tx)].v;
+        for (int v : piece.tris[static_cast<size_t>(ty)].v)
+          if (std::find(vx.begin(), vx.end(), v) == vx.end() && side(fx, v) < 0) return std::nullopt;
+        if (fx < fy) out.edges.emplace_back(fx, fy);
+      }
+    i = j;
+  }
+  std::sort(out.edges.begin(), out.edges.end());
+  out.edges.erase(std::unique(out.edges.begin(), out.edges.end()), out.edges.end());
+  // Convex: the planes of the faces off their canonical planes. Built last, since a plane
+  // through cut points needs their exact coordinates, which most pieces of a rotated double
+  // body (not convex exactly) never need.
+  for (size_t f = 0; f < refs.size(); ++f) {
+    const FaceRef& r = refs[f];
+    if (r.plane >= 0) continue;
+    const Point &a = piece.pts[static_cast<size_t>(r.v[0])], &b = piece.pts[static_cast<size_t>(r.v[1])],
+                &c = piece.pts[static_cast<size_t>(r.v[2])];
+    if (a.origin >= 0 && b.origin >= 0 && c.origin >= 0) {
+      // Three input vertices (doubles): their plane exactly, without multiprecision
+      // coefficients. through()'s positive side is where orientation is NEGATIVE.
+      const ExactPlane g = ExactPlane::through(a.input, b.input, c.input);
+      out.faces[f] = r.inner == CGAL::NEGATIVE ? g : g.flipped();
+      continue;
+    }
+    // Oriented by a corner on the inner point's side (the inner point itself is a centroid,
+    // whose exact value costs rational sums).
+    const P3* corner = nullptr;
+    for (const Tri& u : piece.tris) {
+      for (int v : u.v)
+        if (CGAL::orientation(a.p, b.p, c.p, point(v)) == r.inner) {
+          corner = &point(v);
+          break;
+        }
+      if (corner) break;
+    }
+    if (!corner) return std::nullopt;
+    out.faces[f] = plane_through_exact(a.p, b.p, c.p, *corner);
+  }
+  return out;
+}
+
 Decomposition run(const Body& body, const DecomposeOptions& options, Context& ctx) {
   if (!options.verify && is_convex(body)) {
     // Convex input returns at once: O(V + E) (mesh/convexity.h), before the exact pieces.
@@ -642,12 +920,14 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
   }
   // Rounded once, here; a piece thinner than rounding everywhere is left out and counted. The
   // floating-point variant keeps its plain rounding, so its broken pieces still show.
+  std::vector<const Piece*> kept;
   for (const Piece& p : done) {
     if (ctx.floating) {
       out.pieces.push_back(body_of(p));
     } else if (std::optional<Body> b = rounded_piece(p)) {
       out.piece_planes.push_back(face_planes(p));
       out.pieces.push_back(std::move(*b));
+      kept.push_back(&p);
     } else {
       ++out.degenerate_pieces;
     }
@@ -676,6 +956,14 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
       const std::pair<int, int> c(whole.tris[t].plane, whole.tris[t].sign);
       if (!std::binary_search(fp.begin(), fp.end(), c)) fp.insert(std::upper_bound(fp.begin(), fp.end(), c), c);
     }
+    // The exact pieces as planes, in parallel (independent pieces; exact arithmetic only). A
+    // piece that is not exactly convex (an ulp fold of the guarded run) gets none: its
+    // consumers keep the rounded piece.
+    if (options.exact_pieces) out.exact_pieces.resize(kept.size());
+    if (options.exact_pieces) parallel_chunks(kept.size(), 16, [&](size_t, size_t lo, size_t hi) {
+      for (size_t i = lo; i != hi; ++i)
+        if (std::optional<ExactConvex> e = exact_convex(ctx, m, *kept[i])) out.exact_pieces[i] = std::move(*e);
+    });
   }
   return out;
 }

@@ -195,6 +195,7 @@ void Roberts::prepare_bodies() {
     std::vector<Body> pieces;
     std::vector<FaceTriangle> triangles;  // faceted: the triangles of the front faces
     std::vector<std::vector<std::pair<int, int>>> planes;  // Decomposition::piece_planes
+    std::vector<ExactConvex> exact;                        // Decomposition::exact_pieces
     std::vector<HlrFacet> facets;
     std::string error;
   };
@@ -241,6 +242,7 @@ void Roberts::prepare_bodies() {
       }
       try {
         DecomposeOptions decompose_options;
+        decompose_options.exact_pieces = true;
         if (meter_.active())
           decompose_options.progress = [this](int, int) {
             meter_.add(0);  // reports on the caller's thread, throws once cancelled
@@ -249,6 +251,7 @@ void Roberts::prepare_bodies() {
         Decomposition d = decompose(body, decompose_options);
         per_body[b].pieces = std::move(d.pieces);
         per_body[b].planes = std::move(d.piece_planes);
+        per_body[b].exact = std::move(d.exact_pieces);
         bd.input_planes = std::move(d.planes);
       } catch (const InvalidInput& e) {
         per_body[b].error = e.what();
@@ -280,6 +283,11 @@ void Roberts::prepare_bodies() {
         const Sign s = view_.at_infinity ? model.side_along(c, -view_.direction) : model.side(c, view_.point);
         if (static_cast<int>(s) * sign > 0) piece.front_planes.push_back(c);
       }
+      if (k < per_body[b].exact.size() && !per_body[b].exact[k].faces.empty()) {
+        // The exact piece's own planes: its volume is exact, so no end needs moving.
+        piece.exact_piece = std::make_shared<const ExactConvex>(std::move(per_body[b].exact[k]));
+        continue;
+      }
       // Each rounded face's canonical plane, for the ends of hidden parts (end_snapped).
       piece.face_canonical = internal::rounded_face_planes(*piece.piece, per_body[b].planes[k], model);
     }
@@ -310,12 +318,16 @@ void Roberts::prepare_bodies() {
           // The boundary and outline of a surface of a million faces meet few of them.
           else if (!brute && piece.two_sided()) p.deferred = true;
           else build_volume(p);
+        } else if (p.exact_piece) {
+          p.volume = occlusion_volume(*p.exact_piece, view_);
         } else {
           piece_facing.clear();
           for (int f = 0; f < piece.face_count(); ++f) piece_facing.push_back(facing(piece, f, view_));
           p.volume = occlusion_volume(piece, piece_facing, view_);
         }
-        if (brute)
+        if (brute && p.exact_piece)
+          p.faces = p.exact_piece->faces;
+        else if (brute)
           for (int f = 0; f < piece.face_count(); ++f) p.faces.push_back(exact_face_plane(piece, f));
       }
       p.box = picture_box(p.vertices());

@@ -182,6 +182,40 @@ OcclusionVolume occlusion_volume(const Body& body, std::span<const Facing> facin
   return volume_of(body, facing, view, face_planes, true);
 }
 
+OcclusionVolume occlusion_volume(const ExactConvex& piece, const Viewpoint& view) {
+  OcclusionVolume out;
+  const size_t n = piece.faces.size();
+  std::vector<Facing> turned(n);
+  std::vector<char> front(n);
+  for (size_t f = 0; f < n; ++f) {
+    turned[f] = facing(piece.faces[f], view);
+    front[f] = turned[f] == Facing::Front;
+    if (front[f]) out.front_faces.push_back(static_cast<int>(f));
+  }
+  if (out.front_faces.empty()) return out;
+  std::vector<ExactPlane> planes;
+  planes.reserve(out.front_faces.size() + piece.edges.size());
+  for (const int f : out.front_faces) planes.push_back(piece.faces[static_cast<size_t>(f)]);
+  // The viewpoint as E: a point, or the point at infinity the rays come from (−direction), so
+  // that f(E) < 0 exactly for a front face f.
+  const Vec3 e = view.at_infinity ? Vec3(-view.direction) : view.point;
+  for (const auto& [j, k] : piece.edges) {
+    if (front[static_cast<size_t>(j)] == front[static_cast<size_t>(k)]) continue;
+    const ExactPlane& f = piece.faces[static_cast<size_t>(front[static_cast<size_t>(j)] ? j : k)];
+    const int other = front[static_cast<size_t>(j)] ? k : j;
+    const ExactPlane& g = piece.faces[static_cast<size_t>(other)];
+    // The other face edge-on (g(E) = 0): the pencil is a positive multiple of g, so g itself,
+    // which keeps its exact form (a plane through input points: clippers set an axis-aligned
+    // one's crossing coordinate exactly).
+    if (turned[static_cast<size_t>(other)] == Facing::EdgeOn)
+      planes.push_back(g);
+    else
+      planes.push_back(ExactPlane::pencil(f, g, e, view.at_infinity));
+  }
+  out.clipper = ConvexClipper::from_planes(std::move(planes));
+  return out;
+}
+
 OcclusionVolume silhouette_volume(const Body& body, std::span<const Facing> facing, const Viewpoint& view) {
   return volume_of(body, facing, view, {}, false);
 }

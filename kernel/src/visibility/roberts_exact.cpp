@@ -18,6 +18,7 @@
 #include <optional>
 #include <unordered_map>
 
+#include "core/exact_plane.h"
 #include "hedra/core/error.h"
 
 namespace hedra::detail {
@@ -45,27 +46,9 @@ struct HPoint {
 
 HPlane hplane(const ExactPlane& f) {
   HPlane h;
-  if (f.by_points()) {
-    // f(p) = −det[b − a, c', p − a] = (p − a)·(c' × (b − a)), c' = c − a or the direction c.
-    const auto& p = f.points();
-    std::array<Q, 3> ba, ca;
-    for (int i = 0; i < 3; ++i) {
-      ba[i] = Q(p[1][i]) - Q(p[0][i]);
-      ca[i] = f.by_direction() ? Q(p[2][i]) : Q(p[2][i]) - Q(p[0][i]);
-    }
-    h.n[0] = ca[1] * ba[2] - ca[2] * ba[1];
-    h.n[1] = ca[2] * ba[0] - ca[0] * ba[2];
-    h.n[2] = ca[0] * ba[1] - ca[1] * ba[0];
-    h.k = Q(0) - (h.n[0] * Q(p[0][0]) + h.n[1] * Q(p[0][1]) + h.n[2] * Q(p[0][2]));
-  } else {
-    const Vec4& c = f.coefficients().coefficients;
-    for (int i = 0; i < 3; ++i) h.n[i] = Q(c[i]);
-    h.k = Q(c[3]);
-  }
-  if (f.negated()) {
-    for (Q& v : h.n) v = Q(0) - v;
-    h.k = Q(0) - h.k;
-  }
+  const std::array<Q, 4> c = internal::exact_coefficients(f);
+  for (int i = 0; i < 3; ++i) h.n[static_cast<size_t>(i)] = c[static_cast<size_t>(i)];
+  h.k = c[3];
   for (int i = 0; i < 3; ++i) h.bounds[static_cast<size_t>(i)] = CGAL::to_interval(h.n[static_cast<size_t>(i)]);
   h.bounds[3] = CGAL::to_interval(h.k);
   return h;

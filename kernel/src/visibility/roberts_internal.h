@@ -147,6 +147,9 @@ struct HlrPiece {
   // (the unambiguous match of their normals), or −1 (a face of the convex-hull fallback, a
   // sliver whose rounded normal is off). Read by end_snapped().
   std::vector<int> face_canonical;
+  // The exact piece as planes (Decomposition::exact_pieces): when set, `volume` is built from
+  // it (occlusion_volume(const ExactConvex&, …)), exact, and face_canonical stays empty.
+  std::shared_ptr<const ExactConvex> exact_piece;
   // A triangle of a face of a body that occludes by its faces (Occluders::Faces): that face.
   int face = -1;
   mutable detail::PieceOccluder occluder;  // occluder.volume set with `volume`

@@ -154,7 +154,7 @@ PieceVolumes ShadowScene::Impl::volumes(const Viewpoint& view, int threads) cons
     std::vector<Facing> turned(c.planes.size());
     for (size_t f = 0; f < c.planes.size(); ++f) turned[f] = facing(c.planes[f], view);
     OcclusionVolume& volume = v.volumes[static_cast<size_t>(c.slot)];
-    volume = occlusion_volume(c.shape, turned, view, c.planes);
+    volume = c.exact ? occlusion_volume(*c.exact, view) : occlusion_volume(c.shape, turned, view, c.planes);
     v.active[p] = volume.clipper.has_value();
   });
   return v;
@@ -185,6 +185,7 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
   std::vector<std::vector<Body>> pieces(m.bodies.size());
   std::vector<std::vector<std::vector<ExactPlane>>> piece_planes(m.bodies.size());
   std::vector<std::vector<std::vector<std::pair<int, int>>>> exact_planes(m.bodies.size());
+  std::vector<std::vector<ExactConvex>> exact_pieces(m.bodies.size());
   parallel_for(m.bodies.size(), 0, [&](size_t b) {
     ShadowBody& bd = m.bodies[b];
     bd.faces.resize(static_cast<size_t>(bd.body.face_count()));
@@ -209,9 +210,12 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       bd.faceted = true;
     } else {
       try {
-        Decomposition d = decompose(bd.body);
+        DecomposeOptions options;
+        options.exact_pieces = true;
+        Decomposition d = decompose(bd.body, options);
         pieces[b] = std::move(d.pieces);
         exact_planes[b] = std::move(d.piece_planes);
+        exact_pieces[b] = std::move(d.exact_pieces);
         bd.input_planes = std::move(d.planes);
       } catch (const InvalidInput& e) {
         throw InvalidInput("body '" + bd.name + "': " + e.what());
@@ -257,6 +261,8 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       pd.convex = std::make_unique<ShadowPiece::Convex>(std::move(pieces[b][k]));
       pd.convex->planes = std::move(piece_planes[b][k]);
       if (k < exact_planes[b].size()) pd.convex->exact_planes = std::move(exact_planes[b][k]);
+      if (k < exact_pieces[b].size() && !exact_pieces[b][k].faces.empty())
+        pd.convex->exact = std::make_shared<const ExactConvex>(std::move(exact_pieces[b][k]));
       pd.convex->slot = m.convex_pieces++;
       pd.body = static_cast<int>(b);
       place(pd);

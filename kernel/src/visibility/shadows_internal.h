@@ -118,6 +118,9 @@ struct ShadowPiece {
     std::vector<ExactPlane> planes;  // its face planes (exact_face_plane)
     // The exact piece's faces (Decomposition::piece_planes); empty: none given.
     std::vector<std::pair<int, int>> exact_planes;
+    // The exact piece as planes (Decomposition::exact_pieces); null: none (a convex body, a
+    // piece that is not exactly convex). When set, its occlusion volume is built from it.
+    std::shared_ptr<const ExactConvex> exact;
     int slot = 0;  // its occlusion volume in PieceVolumes::volumes
   };
   std::unique_ptr<Convex> convex;

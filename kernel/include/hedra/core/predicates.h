@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 
 #include <Eigen/Core>
 
@@ -73,6 +74,10 @@ bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 // ---- Oriented planes for clipping (hedra/clip/cyrus_beck.h, batch_clip.h, polygon_clip.h) ----
 
+namespace internal {
+struct ExactCoefficients;  // kernel/src/core/exact_plane.h: four exact (CGAL::Mpzf) coefficients
+}
+
 /// An oriented plane as an exact affine function f(p), Positive on its inner side, together
 /// with a double form n·p + k whose evaluation error is bounded, so that callers can decide a
 /// sign in floating point whenever |value| exceeds the bound and call the exact predicates
@@ -81,9 +86,12 @@ bool on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 ///    orient3d(a, b, c, p) is Negative (a Body face through its support triple, so exactly
 ///    Body::face_side), or
 ///  - the plane of four double coefficients taken as exact: f(p) = a·x + b·y + c·z + d (the
-///    convention of side_of_plane and of a body-matrix column).
+///    convention of side_of_plane and of a body-matrix column), or
+///  - the plane of four exact multiprecision coefficients (by_exact(): a face of an exact
+///    piece whose corners are not doubles, a pencil plane through a silhouette edge of one).
 /// The double form approximates F = f / 2^e, a power-of-two multiple chosen so that the
-/// largest |n_i| lies in [1, 2): no sign and no crossing parameter changes, and value() is
+/// largest |n_i| lies in [1, 2) (for exact coefficients a positive multiple, each coefficient
+/// within 2u of its own value): no sign and no crossing parameter changes, and value() is
 /// close to a distance for well-shaped planes.
 class ExactPlane {
  public:
@@ -96,6 +104,22 @@ class ExactPlane {
   static ExactPlane through_direction(const Vec3& a, const Vec3& b, const Vec3& d);
   /// \throw InvalidInput if a coefficient is not finite or the normal is zero.
   static ExactPlane from_coefficients(const Plane& plane);
+  /// The plane of the pencil of f and g through the point e (or parallel to the direction e
+  /// when e_is_direction): h = g(E)·f − f(E)·g, with E the point e, or the point at infinity
+  /// e (homogeneous (e, 0): f(E) = n_f·e). Exact: h vanishes on the common line of f and g and
+  /// at E, and a point where f and g are both positive is positive on h when f(E) < 0 ≤ g(E)
+  /// (a silhouette edge between a face f turned to the viewpoint E and a face g that is not:
+  /// the plane through the edge and the viewpoint, the piece on its positive side). Its
+  /// coefficients are exact multiprecision numbers (by_exact()), computed from f's and g's
+  /// own, so no vertex of the edge is needed: the edges of an exact convex piece whose corners
+  /// are not doubles. Cost: a few dozen multiprecision operations.
+  /// \throw InvalidInput if h vanishes identically (f and g parallel, or E on both).
+  static ExactPlane pencil(const ExactPlane& f, const ExactPlane& g, const Vec3& e,
+                           bool e_is_direction);
+  /// A plane from exact coefficients (kernel/src/core/exact_plane.h builds them: planes of
+  /// exact points that are not doubles, pencils). \throw InvalidInput if the normal is zero
+  /// or the offset too large for the normal.
+  static ExactPlane from_exact(std::shared_ptr<const internal::ExactCoefficients> coefficients);
 
   /// fl(n·p + k), always in this order: ((n0·x + n1·y) + n2·z) + k, so every caller (scalar or
   /// vectorized) gets the same bits.
@@ -116,9 +140,12 @@ class ExactPlane {
   bool by_points() const { return by_points_; }
   bool negated() const { return negated_; }  // f is −(the defining form): see flipped()
   bool by_direction() const { return by_direction_; }
+  /// Exact multiprecision coefficients (pencil(), from_exact()): neither points nor doubles.
+  bool by_exact() const { return exact_ != nullptr; }
+  const internal::ExactCoefficients* exact_coefficients() const { return exact_.get(); }
   /// When by_points(): the three points, or a, b and the direction when by_direction().
   const std::array<Vec3, 3>& points() const { return points_; }
-  const Plane& coefficients() const { return plane_; }           // when !by_points()
+  const Plane& coefficients() const { return plane_; }  // when !by_points() && !by_exact()
   /// The same plane with the other side inner (−f, exactly).
   ExactPlane flipped() const;
 
@@ -129,6 +156,7 @@ class ExactPlane {
   bool by_direction_ = false;  // points_[2] is a direction (through_direction)
   bool negated_ = false;  // f is the negation of the defining form (flipped())
   std::array<Vec3, 3> points_{};
+  std::shared_ptr<const internal::ExactCoefficients> exact_;
   Plane plane_;
   Vec3 n_ = Vec3::Zero();
   double k_ = 0, slope_ = 0, offset_ = 0;

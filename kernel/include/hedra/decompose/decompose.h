@@ -10,6 +10,7 @@
 
 #include "hedra/core/body.h"
 #include "hedra/core/error.h"  // DecompositionCancelled, DecompositionFailed
+#include "hedra/core/predicates.h"
 
 namespace hedra {
 
@@ -27,6 +28,10 @@ struct DecomposeOptions {
   /// After cutting, join adjacent pieces whose union is convex (decided exactly), greedily in
   /// canonical order. Fewer pieces; each merged piece is still convex and the cover exact.
   bool merge = false;
+  /// Also return each piece as exact planes (Decomposition::exact_pieces), for consumers that
+  /// clip against the pieces (hidden lines, shadows, clipping). Costs a few exact tests per
+  /// triangle of each piece.
+  bool exact_pieces = false;
 };
 
 /// The exact planes the decomposition cut and bounded its pieces with, for consumers that must
@@ -61,6 +66,20 @@ struct InputPlanes {
   bool empty() const { return support.empty(); }
 };
 
+/// A convex piece as exact planes: the piece is the intersection of the inner (Positive)
+/// half-spaces of `faces`, exactly, whatever rounding did to its double corners. Each face is
+/// the supporting plane of one face of the exact piece: the input plane through three input
+/// vertices (ExactPlane::through) where the face lies on it exactly, else the plane of three
+/// of the exact piece's corners with multiprecision coefficients (ExactPlane::by_exact(): a
+/// face through vertices only within rounding of an input plane, a rotated float32 part's).
+/// `edges` lists each pair of faces (j < k) meeting at an edge of the exact piece, once: what
+/// an occlusion volume needs for its silhouette (occlusion_volume(const ExactConvex&, …),
+/// hedra/visibility/occlusion.h), with no corner rounded. Value type.
+struct ExactConvex {
+  std::vector<ExactPlane> faces;
+  std::vector<std::pair<int, int>> edges;
+};
+
 struct Decomposition {
   std::vector<Body> pieces;  // convex, interior-disjoint, covering the input; canonical order
   /// Per piece: (canonical plane, sign) of every face of the exact piece, sorted; sign +1 when
@@ -69,6 +88,13 @@ struct Decomposition {
   /// itself) and for the floating method.
   std::vector<std::vector<std::pair<int, int>>> piece_planes;
   InputPlanes planes;
+  /// Per piece of `pieces`: the exact piece as planes (ExactConvex), for the consumers that
+  /// clip against it (hidden lines, shadows, clipping): nothing they decide depends on the
+  /// rounded corners. Only with DecomposeOptions::exact_pieces; empty where piece_planes is; a piece with no faces where the exact piece
+  /// is not exactly convex (the guarded run decides convexity with input vertices within the
+  /// rounding guard of a plane counted on it, so a piece can fold by an ulp there): its
+  /// consumers keep the rounded piece.
+  std::vector<ExactConvex> exact_pieces;
   int cuts = 0;              // plane cuts made
   int merges = 0;            // pieces joined by the merge pass (DecomposeOptions::merge)
   bool verified = false;     // exact checks passed (only with DecomposeOptions::verify)

@@ -13,6 +13,7 @@
 #include "hedra/core/body.h"
 #include "hedra/scene/camera.h"
 #include "hedra/clip/convex_clipper.h"
+#include "hedra/decompose/decompose.h"  // ExactConvex
 #include "hedra/scene/light.h"
 
 namespace hedra {
@@ -78,6 +79,17 @@ OcclusionVolume occlusion_volume(const Body& convex_body, const Viewpoint& view)
 OcclusionVolume occlusion_volume(const Body& convex_body, std::span<const Facing> facing,
                                  const Viewpoint& view,
                                  std::span<const ExactPlane> face_planes = {});
+
+/// The occlusion volume of an exact convex piece (Decomposition::exact_pieces), from its planes
+/// alone: the planes of its faces turned to the viewpoint (facing(plane, view) == Front), in
+/// face order, then for each edge (j, k) between a front face and one that is not, in edge
+/// order, the plane through the edge and the viewpoint as the pencil
+/// ExactPlane::pencil(front, other, E) (the piece on its positive side; the other face itself
+/// when it is edge-on, the pencil then being a positive multiple of it). No corner of the
+/// piece is used, so nothing is rounded: the volume is the exact piece's. `front_faces` index
+/// `piece.faces`; `silhouette` is empty (the edges have no double corners). Cost O(F + E),
+/// each silhouette plane a few dozen multiprecision operations.
+OcclusionVolume occlusion_volume(const ExactConvex& piece, const Viewpoint& view);
 
 /// occlusion_volume without the front faces' planes: `front_faces` and `silhouette` as there,
 /// the clipper holding only the silhouette edges' planes (std::nullopt when there are none).
