@@ -162,12 +162,7 @@ TEST(Decompose, RandomPrismsAndUnionsOfBoxesUnderRandomRotations) {
   std::uniform_real_distribution<double> u(0, 1);
   std::vector<std::pair<std::string, Body>> bodies;
   for (int k = 0; k < 6; ++k) {
-    const int n = 5 + static_cast<int>(u(random) * 8);
-    std::vector<Vec2> polygon;
-    for (int i = 0; i < n; ++i) {
-      const double angle = 2 * M_PI * (i + 0.8 * u(random)) / n, r = 0.6 + 1.4 * u(random);
-      polygon.emplace_back(r * std::cos(angle), r * std::sin(angle));
-    }
+    const std::vector<Vec2> polygon = suite::random_polygon(random);
     bodies.emplace_back("prism " + std::to_string(k), prism(polygon, 0, 0.3 + u(random)));
   }
   for (int k = 0; k < 4; ++k) {
@@ -443,19 +438,6 @@ TEST(DecomposeCgal, CoversTheBodyWithAtLeastAsManyPieces) {
 
 // ---- Float32 parts (issue 14): a triangle mesh is a valid body as it is ----------------------
 
-// What a float32 STL export of `body` gives back: its triangles, vertices rounded to float,
-// exactly coplanar neighbours merged (as mesh import does).
-Body float32_triangles(const Body& body) {
-  PolygonSoup soup;
-  for (const Vec3& p : body.vertices())
-    soup.vertices.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
-                               static_cast<float>(p.z()));
-  for (const Triangle& t : body.triangles()) soup.polygons.push_back({t.v[0], t.v[1], t.v[2]});
-  std::vector<Body> bodies = bodies_from_soup(soup);
-  EXPECT_EQ(bodies.size(), 1u);
-  return bodies.at(0);
-}
-
 // Decomposition::exact_pieces: each piece as the planes of the exact piece's faces. Checked
 // against the rounded piece (its corners within rounding of every plane, inside all of them,
 // at least three on each; where the input's corners are doubles and every cut lands on a
@@ -469,7 +451,7 @@ TEST(Decompose, ExactPiecesAreThePlanesOfTheExactPieces) {
   }
   inputs.emplace_back("drilled plate", drilled);
   inputs.emplace_back("drilled plate (float32, rotated)",
-                      float32_triangles(drilled.transformed(Transform::rotation({1, 2, 3}, 37))));
+                      suite::float32_soup(drilled.transformed(Transform::rotation({1, 2, 3}, 37))));
   // Slanted faces: cut points that are not doubles.
   inputs.emplace_back("slanted L", prism({{0, 0}, {3, 0}, {3, 1}, {1, 1.0 / 3}, {0.7, 3}, {0, 3}}, 0, 2));
   // Random prisms under random rotations: some pieces are exactly convex although their
@@ -477,12 +459,7 @@ TEST(Decompose, ExactPiecesAreThePlanesOfTheExactPieces) {
   std::mt19937 random(2027);
   std::uniform_real_distribution<double> u(0, 1);
   for (int k = 0; k < 12; ++k) {
-    const int n = 5 + static_cast<int>(u(random) * 8);
-    std::vector<Vec2> polygon;
-    for (int i = 0; i < n; ++i) {
-      const double angle = 2 * M_PI * (i + 0.8 * u(random)) / n, r = 0.6 + 1.4 * u(random);
-      polygon.emplace_back(r * std::cos(angle), r * std::sin(angle));
-    }
+    const std::vector<Vec2> polygon = suite::random_polygon(random);  // drawn before the height
     const Body p = prism(polygon, 0, 0.3 + u(random));
     inputs.emplace_back("random prism " + std::to_string(k) + " (rotated)",
                         p.transformed(Transform::rotation(Vec3(u(random) - 0.5, u(random) - 0.5, u(random) - 0.5),
@@ -558,7 +535,7 @@ TEST(DecomposeFloat32, RotatedPartsDecomposeExactlyAndRoundOnce) {
   for (const auto& [name, part] : parts)
     for (const Vec3& axis : {Vec3(1, 2, 3), Vec3(-0.3, 0.9, 0.1)}) {
       SCOPED_TRACE(name);
-      const Body input = float32_triangles(part.transformed(Transform::rotation(axis, 37)));
+      const Body input = suite::float32_soup(part.transformed(Transform::rotation(axis, 37)));
       DecomposeOptions options;
       options.verify = true;
       const Decomposition d = decompose(input, options);
@@ -579,7 +556,7 @@ TEST(DecomposeFloat32, RotatedPartsDecomposeExactlyAndRoundOnce) {
 // the hull is now made canonical. Several runs, since a race shows only now and then.
 TEST(DecomposeFloat32, HullRoundedPiecesDoNotDependOnTheThreads) {
   const Body drilled = *subtract(box({-2, -2, 0}, {2, 2, 1}), cylinder(0.5, -1, 2, 0.01));
-  const Body input = float32_triangles(drilled.transformed(Transform::rotation({0.3, -0.7, 0.65}, 37.3)));
+  const Body input = suite::float32_soup(drilled.transformed(Transform::rotation({0.3, -0.7, 0.65}, 37.3)));
   DecomposeOptions one, two;
   one.threads = 1;
   two.threads = 2;

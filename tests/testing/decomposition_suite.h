@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "hedra/mesh/boolean.h"
+#include "hedra/mesh/merge_coplanar.h"
 #include "hedra/core/primitives.h"
 
 namespace hedra::suite {
@@ -88,6 +89,30 @@ inline std::vector<Shape> shapes(bool with_large = true) {
     s.push_back({"plate 10x10", plate_with_holes(10)});
   }
   return s;
+}
+
+/// The body as a float32 STL stores it: every vertex rounded to float32, every face fanned into
+/// triangles, read back with exactly coplanar neighbours merged (bodies_from_soup). A rotated
+/// body's quadrilaterals come back as two triangles planar only together within float rounding.
+inline Body float32_soup(const Body& body) {
+  PolygonSoup soup;
+  for (const Vec3& p : body.vertices())
+    soup.vertices.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  for (const Triangle& t : body.triangles()) soup.polygons.push_back({t.v[0], t.v[1], t.v[2]});
+  return bodies_from_soup(soup).at(0);
+}
+
+/// A random star-shaped polygon of 5 … 12 corners, radii 0.6 … 2 (prisms of the random tests).
+template <class Rng>
+std::vector<Vec2> random_polygon(Rng& random) {
+  std::uniform_real_distribution<double> u(0, 1);
+  const int n = 5 + static_cast<int>(u(random) * 8);
+  std::vector<Vec2> polygon;
+  for (int i = 0; i < n; ++i) {
+    const double angle = 2 * M_PI * (i + 0.8 * u(random)) / n, r = 0.6 + 1.4 * u(random);
+    polygon.emplace_back(r * std::cos(angle), r * std::sin(angle));
+  }
+  return polygon;
 }
 
 /// Triangle soup of a body with every vertex moved by up to `delta` × its size: still a valid

@@ -9,12 +9,12 @@
 #include <cmath>
 #include <random>
 
+#include "testing/decomposition_suite.h"
 #include "testing/hlr_reference.h"
 #include "testing/zbuffer_lines.h"
 #include "hedra/decompose/decompose.h"
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
-#include "hedra/mesh/merge_coplanar.h"
 
 namespace hedra {
 namespace {
@@ -623,13 +623,6 @@ TEST(Roberts, RotatedNonConvexBodiesLeaveNoSliversAtEdgeEnds) {
 // hidden part is set by a rounded piece. Reference: the ray-cast visible length over the
 // double bodies' convex parts (the soup is within float rounding of them, 1e-7).
 TEST(Roberts, RotatedFloat32PartsAreDrawnWithTheirExactPieces) {
-  const auto float32 = [](const Body& body) {
-    PolygonSoup soup;
-    for (const Vec3& p : body.vertices())
-      soup.vertices.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-    for (const Triangle& t : body.triangles()) soup.polygons.push_back({t.v[0], t.v[1], t.v[2]});
-    return bodies_from_soup(soup).at(0);
-  };
   const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2);
   const Body plate = prism({{5, 0}, {9, 0}, {9, 4}, {5, 4}}, 0, 0.5, {{{6, 1}, {8, 1}, {8, 3}, {6, 3}}});
   std::mt19937 random(20261207);
@@ -639,7 +632,7 @@ TEST(Roberts, RotatedFloat32PartsAreDrawnWithTheirExactPieces) {
     const double ax = 360 * u(random), az = 360 * u(random);
     const Vec3 centre(4.5, 2, 0.5);
     const auto turn = [&](const Body& b) { return b.rotated_x(ax, centre).rotated_z(az, centre); };
-    const std::vector<Body> bodies{float32(turn(l)), float32(turn(plate))};
+    const std::vector<Body> bodies{suite::float32_soup(turn(l)), suite::float32_soup(turn(plate))};
     for (const Body& b : bodies) {
       DecomposeOptions options;
       options.exact_pieces = true;

@@ -234,21 +234,28 @@ using internal::filtered_sign;
 
 }  // namespace
 
+namespace {
+
+// Coefficient i of exact coefficients as T: itself in the Mpzf stage, its enclosure in the
+// interval stage (a positive multiple of the same function, so every sign agrees).
+template <class T>
+T coefficient(const internal::ExactCoefficients& e, size_t i) {
+  if constexpr (std::is_same_v<T, CGAL::Mpzf>) {
+    return e.c[i];
+  } else {
+    return T(e.interval[i].first, e.interval[i].second);
+  }
+}
+
+}  // namespace
+
 // f(p) exactly (T = Mpzf) or enclosed (T = Interval, under upward rounding).
 template <class T>
 T exact_plane_value(const ExactPlane& f, const Vec3& p) {
   T value(0);
-  if (f.exact_) {
-    // Exact coefficients: the Mpzf stage evaluates them; the interval stage their enclosures
-    // (a positive multiple of the same function, so every sign agrees).
-    if constexpr (std::is_same_v<T, CGAL::Mpzf>) {
-      const auto& c = f.exact_->c;
-      value = c[0] * T(p.x()) + c[1] * T(p.y()) + c[2] * T(p.z()) + c[3];
-    } else {
-      const auto& c = f.exact_->interval;
-      value = T(c[0].first, c[0].second) * T(p.x()) + T(c[1].first, c[1].second) * T(p.y()) +
-              T(c[2].first, c[2].second) * T(p.z()) + T(c[3].first, c[3].second);
-    }
+  if (const internal::ExactCoefficients* e = f.exact_.get()) {
+    value = coefficient<T>(*e, 0) * T(p.x()) + coefficient<T>(*e, 1) * T(p.y()) +
+            coefficient<T>(*e, 2) * T(p.z()) + coefficient<T>(*e, 3);
   } else if (f.by_points_) {
     const Vec3 &a = f.points_[0], &b = f.points_[1], &c = f.points_[2];
     const T bax = T(b.x()) - T(a.x()), bay = T(b.y()) - T(a.y()), baz = T(b.z()) - T(a.z());
@@ -389,7 +396,7 @@ std::pair<double, long> mantissa_exponent(const CGAL::Mpzf& x) {
 
 }  // namespace
 
-ExactPlane ExactPlane::from_exact(std::shared_ptr<const internal::ExactCoefficients> coefficients) {
+ExactPlane ExactPlane::from_exact(std::shared_ptr<internal::ExactCoefficients> coefficients) {
   if (!coefficients) throw InvalidInput("plane without coefficients");
   const auto& c = coefficients->c;
   std::array<std::pair<double, long>, 4> me;
@@ -415,10 +422,9 @@ ExactPlane ExactPlane::from_exact(std::shared_ptr<const internal::ExactCoefficie
   }
   if (!std::isfinite(approx[3]) || !std::isfinite(radius[3]))
     throw InvalidInput("plane too far from the origin for the size of its normal");
-  auto exact = std::make_shared<internal::ExactCoefficients>(*coefficients);
   double slope = 0;
   for (size_t i = 0; i < 4; ++i) {
-    exact->interval[i] = {approx[i] - radius[i], approx[i] + radius[i]};
+    coefficients->interval[i] = {approx[i] - radius[i], approx[i] + radius[i]};
     if (i < 3) {
       f.n_[static_cast<int>(i)] = approx[i];
       slope += gamma_n(4) * std::abs(approx[i]) + radius[i];
@@ -427,7 +433,7 @@ ExactPlane ExactPlane::from_exact(std::shared_ptr<const internal::ExactCoefficie
   f.k_ = approx[3];
   f.slope_ = slope * kBoundInflation;
   f.offset_ = (gamma_n(4) * std::abs(f.k_) + radius[3] + 8 * kTiny) * kBoundInflation;
-  f.exact_ = std::move(exact);
+  f.exact_ = std::move(coefficients);
   return f;
 }
 
@@ -532,13 +538,7 @@ Sign direction_sign(const ExactPlane& f, const Vec3& d) {
                     baz * (cax * T(d.y()) - cay * T(d.x()));
       value = T(0) - det;
     } else if (const internal::ExactCoefficients* e = f.exact_coefficients()) {
-      if constexpr (std::is_same_v<T, CGAL::Mpzf>) {
-        value = e->c[0] * T(d.x()) + e->c[1] * T(d.y()) + e->c[2] * T(d.z());
-      } else {
-        const auto& c = e->interval;
-        value = T(c[0].first, c[0].second) * T(d.x()) + T(c[1].first, c[1].second) * T(d.y()) +
-                T(c[2].first, c[2].second) * T(d.z());
-      }
+      value = coefficient<T>(*e, 0) * T(d.x()) + coefficient<T>(*e, 1) * T(d.y()) + coefficient<T>(*e, 2) * T(d.z());
     } else {
       const Vec4& k = f.coefficients().coefficients;
       value = T(k[0]) * T(d.x()) + T(k[1]) * T(d.y()) + T(k[2]) * T(d.z());

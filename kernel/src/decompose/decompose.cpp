@@ -573,6 +573,15 @@ std::array<mpz_class, 4> homogeneous(const P3& p) {
   return h;
 }
 
+// An integer as Mpzf. CGAL 5.5's Mpzf constructor from an mpz drops its sign (and cannot take
+// zero): built from the magnitude, then negated.
+CGAL::Mpzf mpzf_of(const mpz_class& z) {
+  if (sgn(z) == 0) return CGAL::Mpzf(0);
+  const mpz_class magnitude = abs(z);
+  const CGAL::Mpzf m(magnitude);
+  return sgn(z) < 0 ? CGAL::Mpzf(0) - m : m;
+}
+
 // The plane through three exact points as integer coefficients (the 3 × 3 minors of their
 // homogeneous coordinates: no rational arithmetic, so no gcd), Positive on the side of
 // `inner`, an exact point off the plane. Kept as Mpzf.
@@ -588,18 +597,7 @@ ExactPlane plane_through_exact(const P3& a, const P3& b, const P3& c, const P3& 
   const mpz_class at = h[0] * s[0] + h[1] * s[1] + h[2] * s[2] + h[3] * s[3];
   if (sgn(at) == 0) throw InternalError("decompose: an exact piece is flat (a face through its inner point)");
   std::array<CGAL::Mpzf, 4> out;
-  for (size_t i = 0; i < 4; ++i) {
-    if (sgn(at) < 0) h[i] = -h[i];
-    // CGAL::Mpzf's constructor from an mpz drops its sign (and cannot take zero): built from
-    // the magnitude, then negated.
-    if (sgn(h[i]) == 0) {
-      out[i] = CGAL::Mpzf(0);
-    } else {
-      const mpz_class magnitude = abs(h[i]);
-      out[i] = CGAL::Mpzf(magnitude);
-      if (sgn(h[i]) < 0) out[i] = CGAL::Mpzf(0) - out[i];
-    }
-  }
+  for (size_t i = 0; i < 4; ++i) out[i] = mpzf_of(sgn(at) < 0 ? mpz_class(-h[i]) : h[i]);
   return internal::plane_from_exact(out);
 }
 
@@ -617,18 +615,23 @@ ExactPlane plane_through_exact(const P3& a, const P3& b, const P3& c, const P3& 
 std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& model, const Piece& piece) {
   ExactConvex out;
   const auto point = [&](int v) -> const P3& { return piece.pts[static_cast<size_t>(v)].p; };
-  const auto exactly_on = [&](int v, int c) {
+  // Side of corner v of canonical plane c, in orient3d's convention (Positive on the plane's
+  // positive side): zero by construction when the corner lies on c exactly (not only within
+  // the guard); for an input vertex orient3d on the plane's support triple (doubles, hedra's
+  // filter and Mpzf: much cheaper than the lazy plane's exact evaluation when it is close);
+  // else the exact point against the lazy plane.
+  const auto canonical_side = [&](int c, int v) {
     const Point& q = piece.pts[static_cast<size_t>(v)];
     if (std::binary_search(q.on.begin(), q.on.end(), c) && !std::binary_search(q.loose.begin(), q.loose.end(), c))
-      return true;
-    // An input vertex: orient3d on the plane's support triple (doubles, hedra's filter and
-    // Mpzf), much cheaper than the exact evaluation of the lazy plane when it is close.
+      return Sign::Zero;
     if (q.origin >= 0) {
       const auto& sp = model.support[static_cast<size_t>(c)];
-      return orient3d(sp[0], sp[1], sp[2], q.input) == Sign::Zero;
+      return orient3d(sp[0], sp[1], sp[2], q.input);
     }
-    return ctx.planes[static_cast<size_t>(c)].has_on(q.p);
+    const CGAL::Oriented_side o = ctx.planes[static_cast<size_t>(c)].oriented_side(q.p);
+    return o == CGAL::ON_ORIENTED_BOUNDARY ? Sign::Zero : (o == CGAL::ON_POSITIVE_SIDE ? Sign::Positive : Sign::Negative);
   };
+  const auto exactly_on = [&](int v, int c) { return canonical_side(c, v) == Sign::Zero; };
   // A point strictly inside the piece, if it is convex: the centroid of four corners not on
   // one plane (exact).
   std::optional<P3> inside;
@@ -679,20 +682,10 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
   std::vector<FaceRef> refs;
   const auto side = [&](int face, int v) {
     const FaceRef& r = refs[static_cast<size_t>(face)];
-    const Point& q = piece.pts[static_cast<size_t>(v)];
     if (r.plane >= 0) {
       // Sign +1: the piece lies on the canonical plane's negative side.
-      if (std::binary_search(q.on.begin(), q.on.end(), r.plane) &&
-          !std::binary_search(q.loose.begin(), q.loose.end(), r.plane))
-        return 0;
-      if (q.origin >= 0) {
-        // The support triple is ordered so that orient3d is Positive on the positive side.
-        const auto& sp = model.support[static_cast<size_t>(r.plane)];
-        const Sign o = orient3d(sp[0], sp[1], sp[2], q.input);
-        return o == Sign::Zero ? 0 : ((o == Sign::Negative) == (r.sign > 0) ? 1 : -1);
-      }
-      const CGAL::Oriented_side o = ctx.planes[static_cast<size_t>(r.plane)].oriented_side(q.p);
-      return o == CGAL::ON_ORIENTED_BOUNDARY ? 0 : ((o == CGAL::ON_NEGATIVE_SIDE) == (r.sign > 0) ? 1 : -1);
+      const Sign o = canonical_side(r.plane, v);
+      return o == Sign::Zero ? 0 : ((o == Sign::Negative) == (r.sign > 0) ? 1 : -1);
     }
     if (std::find(r.v.begin(), r.v.end(), v) != r.v.end()) return 0;
     const CGAL::Orientation o = orientation(r.v[0], r.v[1], r.v[2], v);

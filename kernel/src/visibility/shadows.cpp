@@ -151,10 +151,14 @@ PieceVolumes ShadowScene::Impl::volumes(const Viewpoint& view, int threads) cons
       return;
     }
     const ShadowPiece::Convex& c = *piece.convex;
-    std::vector<Facing> turned(c.planes.size());
-    for (size_t f = 0; f < c.planes.size(); ++f) turned[f] = facing(c.planes[f], view);
     OcclusionVolume& volume = v.volumes[static_cast<size_t>(c.slot)];
-    volume = c.exact ? occlusion_volume(*c.exact, view) : occlusion_volume(c.shape, turned, view, c.planes);
+    if (c.exact) {
+      volume = occlusion_volume(*c.exact, view);
+    } else {
+      std::vector<Facing> turned(c.planes.size());
+      for (size_t f = 0; f < c.planes.size(); ++f) turned[f] = facing(c.planes[f], view);
+      volume = occlusion_volume(c.shape, turned, view, c.planes);
+    }
     v.active[p] = volume.clipper.has_value();
   });
   return v;

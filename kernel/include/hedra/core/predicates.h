@@ -119,7 +119,8 @@ class ExactPlane {
   /// A plane from exact coefficients (kernel/src/core/exact_plane.h builds them: planes of
   /// exact points that are not doubles, pencils). \throw InvalidInput if the normal is zero
   /// or the offset too large for the normal.
-  static ExactPlane from_exact(std::shared_ptr<const internal::ExactCoefficients> coefficients);
+  /// Takes the coefficients over (their interval enclosures are filled in, no copy is made).
+  static ExactPlane from_exact(std::shared_ptr<internal::ExactCoefficients> coefficients);
 
   /// fl(n·p + k), always in this order: ((n0·x + n1·y) + n2·z) + k, so every caller (scalar or
   /// vectorized) gets the same bits.
