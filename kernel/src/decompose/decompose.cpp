@@ -601,6 +601,22 @@ ExactPlane plane_through_exact(const P3& a, const P3& b, const P3& c, const P3& 
   return internal::plane_from_exact(out);
 }
 
+// A lazy exact plane as integer coefficients (over their least common denominator), Mpzf;
+// negated when `flip`.
+ExactPlane plane_of_lazy(const PL& plane, bool flip) {
+  const mpq_class c[4] = {CGAL::exact(plane.a()), CGAL::exact(plane.b()), CGAL::exact(plane.c()), CGAL::exact(plane.d())};
+  mpz_class w = 1;
+  for (const mpq_class& x : c) mpz_lcm(w.get_mpz_t(), w.get_mpz_t(), x.get_den_mpz_t());
+  std::array<CGAL::Mpzf, 4> out;
+  for (size_t i = 0; i < 4; ++i) {
+    mpz_class h;
+    mpz_divexact(h.get_mpz_t(), w.get_mpz_t(), c[i].get_den_mpz_t());
+    h *= c[i].get_num();
+    out[i] = mpzf_of(flip ? mpz_class(-h) : h);
+  }
+  return internal::plane_from_exact(out);
+}
+
 // The exact piece as planes, when it is exactly convex. A face is a set of the piece's
 // triangles on one plane: those exactly on their canonical plane (every corner on it exactly,
 // by construction or by the exact test) are one face with that plane, through the canonical
@@ -678,6 +694,11 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
     int canonical = -1, canonical_sign = 0;  // else the canonical plane its triangles round to
     std::array<int, 3> v{};
     CGAL::Orientation inner = CGAL::COPLANAR;
+    // Where the face is the parts of one triangle off its canonical plane (Tri::own): that
+    // triangle's plane, whose exact coefficients are small (three input doubles, or a cap's
+    // three corners), and the side of it the piece lies on.
+    const PL* own = nullptr;
+    CGAL::Oriented_side own_inner = CGAL::ON_ORIENTED_BOUNDARY;
   };
   std::vector<FaceRef> refs;
   const auto side = [&](int face, int v) {
@@ -688,10 +709,15 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
       return o == Sign::Zero ? 0 : ((o == Sign::Negative) == (r.sign > 0) ? 1 : -1);
     }
     if (std::find(r.v.begin(), r.v.end(), v) != r.v.end()) return 0;
+    if (r.own) {
+      const CGAL::Oriented_side o = r.own->oriented_side(point(v));
+      return o == CGAL::ON_ORIENTED_BOUNDARY ? 0 : (o == r.own_inner ? 1 : -1);
+    }
     const CGAL::Orientation o = orientation(r.v[0], r.v[1], r.v[2], v);
     return o == CGAL::COPLANAR ? 0 : (o == r.inner ? 1 : -1);
   };
   std::map<std::pair<int, int>, int> on_canonical;  // (plane, sign) → face
+  std::unordered_map<const PL*, int> own_face;      // Tri::own → face
   std::vector<int> face_of(piece.tris.size());
   for (size_t t = 0; t < piece.tris.size(); ++t) {
     const Tri& tri = piece.tris[t];
@@ -722,6 +748,10 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
       continue;
     }
     int face = -1;
+    // The parts of one triangle lie on its plane by construction.
+    if (tri.own)
+      if (auto it = own_face.find(tri.own.get()); it != own_face.end() && refs[static_cast<size_t>(it->second)].canonical_sign == tri.sign)
+        face = it->second;
     for (size_t f = 0; f < refs.size() && face < 0; ++f) {
       const FaceRef& r = refs[f];
       if (r.plane >= 0 || r.canonical != tri.plane || r.canonical_sign != tri.sign) continue;
@@ -736,7 +766,13 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
       r.v = tri.v;
       r.inner = CGAL::orientation(point(tri.v[0]), point(tri.v[1]), point(tri.v[2]), *inside);
       if (r.inner == CGAL::COPLANAR) return std::nullopt;
+      if (tri.own) {
+        r.own = tri.own.get();
+        r.own_inner = r.own->oriented_side(*inside);
+        if (r.own_inner == CGAL::ON_ORIENTED_BOUNDARY) return std::nullopt;
+      }
       face = static_cast<int>(out.faces.size());
+      if (tri.own) own_face.emplace(tri.own.get(), face);
       refs.push_back(r);
       out.faces.emplace_back();  // its plane once the piece is known to be convex (below)
     }
@@ -802,6 +838,10 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
       // coefficients. through()'s positive side is where orientation is NEGATIVE.
       const ExactPlane g = ExactPlane::through(a.input, b.input, c.input);
       out.faces[f] = r.inner == CGAL::NEGATIVE ? g : g.flipped();
+      continue;
+    }
+    if (r.own) {
+      out.faces[f] = plane_of_lazy(*r.own, r.own_inner == CGAL::ON_NEGATIVE_SIDE);
       continue;
     }
     // Oriented by a corner on the inner point's side (the inner point itself is a centroid,

@@ -49,6 +49,13 @@ void add_on_sorted(std::vector<int>& ids, int id) {
 
 void add_on(Point& pt, int id) { add_on_sorted(pt.on, id); }
 
+std::shared_ptr<const PL> own_plane(const std::vector<Point>& pts, const std::array<int, 3>& v, int plane) {
+  for (int w : v)
+    if (std::binary_search(pts[w].loose.begin(), pts[w].loose.end(), plane))
+      return std::make_shared<const PL>(pts[v[0]].p, pts[v[1]].p, pts[v[2]].p);
+  return nullptr;
+}
+
 // ---- From a body ---------------------------------------------------------------------------
 
 namespace {
@@ -229,7 +236,10 @@ Piece piece_of(const Body& body, Context& ctx) {
         if (!exact_on) add_on_sorted(pt.loose, group[f]);
       }
   }
-  for (const Triangle& t : body.triangles()) piece.tris.push_back({t.v, group[t.face], sign[t.face]});
+  for (const Triangle& t : body.triangles()) {
+    const int g = group[t.face];
+    piece.tris.push_back({t.v, g, sign[t.face], own_plane(piece.pts, t.v, g)});
+  }
   return piece;
 }
 
@@ -479,6 +489,44 @@ std::vector<std::array<int, 3>> chained_cap(const Context& ctx, int plane, std::
 
 // ---- Split ---------------------------------------------------------------------------------
 
+namespace {
+
+// The exact point where edge ab crosses canonical plane `plane`, q.on and q.loose already
+// filled; `exact` lists the exact planes of the triangles on either side of the edge. Where
+// the edge lies exactly on two planes (those, or canonical planes it is on exactly) whose
+// normals are independent of the cutting plane's, the point is built as the intersection of
+// the three planes (plane-based: its coordinates are rationals of bounded size, a few
+// products of the input doubles, however many cuts made a and b). Otherwise (a diagonal
+// inside a face) as the segment's intersection with the plane; simplify() then removes it
+// again. The same point either way: only the cost of the exact arithmetic on it differs.
+// Built from a and b alone, the coordinates of points made by cuts of cuts grew without
+// bound (a rotated 35-point star prism took minutes).
+P3 cut_point_of(const Context& ctx, const Point& a, const Point& b, const Point& q, int plane,
+                const std::array<const PL*, 2>& exact) {
+  std::vector<const PL*> exact_on;
+  for (const PL* f : exact)
+    if (f) exact_on.push_back(f);
+  for (int id : q.on)
+    if (id != plane && !std::binary_search(q.loose.begin(), q.loose.end(), id)) exact_on.push_back(&ctx.planes[id]);
+  const EK::Vector_3 n = ctx.planes[plane].orthogonal_vector();
+  for (size_t i = 0; i < exact_on.size(); ++i)
+    for (size_t j = i + 1; j < exact_on.size(); ++j) {
+      const PL& f = *exact_on[i];
+      const PL& g = *exact_on[j];
+      if (CGAL::is_zero(CGAL::determinant(n, f.orthogonal_vector(), g.orthogonal_vector()))) continue;
+      auto hit = CGAL::intersection(ctx.planes[plane], f, g);
+      const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
+      HEDRA_ASSERT(x, "split: three independent planes do not meet in a point");
+      return *x;
+    }
+  auto hit = CGAL::intersection(EK::Segment_3(a.p, b.p), ctx.planes[plane]);
+  const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
+  HEDRA_ASSERT(x, "split: an edge with ends on both sides misses the plane");
+  return *x;
+}
+
+}  // namespace
+
 Sides split_piece(const Context& ctx, const Piece& in, int plane) {
   Sides result;
   const int n = static_cast<int>(in.pts.size());
@@ -504,6 +552,18 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       add_on_sorted(pts[i].loose, plane);
   }
   std::unordered_map<std::uint64_t, int> cut_point;  // undirected edge -> new point
+  // The exact planes of the triangles on either side of each edge (Tri::own, or the
+  // canonical plane).
+  std::unordered_map<std::uint64_t, std::array<const PL*, 2>> exact_at;
+  if (!ctx.floating)
+    for (const Tri& t : in.tris) {
+      const PL* own = t.own ? t.own.get() : &ctx.planes[t.plane];
+      for (int i = 0; i < 3; ++i) {
+        const int a = t.v[i], b = t.v[(i + 1) % 3];
+        auto [it, fresh] = exact_at.try_emplace(key(std::min(a, b), std::max(a, b)), std::array<const PL*, 2>{own, nullptr});
+        if (!fresh && it->second[0] != own) it->second[1] = own;
+      }
+    }
   auto crossing = [&](int a, int b) {
     const std::uint64_t k = key(std::min(a, b), std::max(a, b));
     auto it = cut_point.find(k);
@@ -518,11 +578,6 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       const double va = ctx.approx[plane].value(pa), vb = ctx.approx[plane].value(pb);
       const Vec3 x = pa + (va / (va - vb)) * (pb - pa);
       q.p = P3(x.x(), x.y(), x.z());
-    } else {
-      auto hit = CGAL::intersection(EK::Segment_3(pts[lo].p, pts[hi].p), ctx.planes[plane]);
-      const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
-      HEDRA_ASSERT(x, "split: an edge with ends on both sides misses the plane");
-      q.p = *x;
     }
     std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),
                           pts[hi].on.end(), std::back_inserter(q.on));
@@ -530,6 +585,9 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
     for (const std::vector<int>* loose : {&pts[lo].loose, &pts[hi].loose})
       for (int id : *loose)
         if (std::binary_search(q.on.begin(), q.on.end(), id)) add_on_sorted(q.loose, id);
+    if (!ctx.floating) {
+      q.p = cut_point_of(ctx, pts[lo], pts[hi], q, plane, exact_at.at(k));
+    }
     const int id = static_cast<int>(pts.size());
     pts.push_back(std::move(q));
     cut_point.emplace(k, id);
@@ -569,8 +627,8 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
         up.push_back(x);
       }
     }
-    for (size_t k = 1; k + 1 < down.size(); ++k) below.push_back({{down[0], down[k], down[k + 1]}, t.plane, t.sign});
-    for (size_t k = 1; k + 1 < up.size(); ++k) above.push_back({{up[0], up[k], up[k + 1]}, t.plane, t.sign});
+    for (size_t k = 1; k + 1 < down.size(); ++k) below.push_back({{down[0], down[k], down[k + 1]}, t.plane, t.sign, t.own});
+    for (size_t k = 1; k + 1 < up.size(); ++k) above.push_back({{up[0], up[k], up[k + 1]}, t.plane, t.sign, t.own});
   }
 
   // Cap: the boundary of the part below lies in the plane; fill it.
@@ -587,8 +645,9 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
     const auto cap = ctx.floating || !ctx.simplify ? cap_triangles(ctx, plane, pts, boundary)
                                                    : chained_cap(ctx, plane, pts, boundary);
     for (const auto& tri : cap) {
-      below.push_back({tri, plane, 1});
-      above.push_back({{tri[0], tri[2], tri[1]}, plane, -1});
+      std::shared_ptr<const PL> own = ctx.floating ? nullptr : own_plane(pts, tri, plane);
+      below.push_back({tri, plane, 1, own});
+      above.push_back({{tri[0], tri[2], tri[1]}, plane, -1, own});
     }
   }
   result.below = components(pts, below);
@@ -601,13 +660,23 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
 void simplify(const Context& ctx, Piece& piece) {
   const int n = static_cast<int>(piece.pts.size());
   const int nt = static_cast<int>(piece.tris.size());
-  auto code = [](const Tri& t) { return 2 * t.plane + (t.sign > 0 ? 0 : 1); };
-  // Up to two faces (plane, sign) around each vertex, and whether there are more.
-  std::vector<std::array<int, 2>> groups(n, {-1, -1});
+  // A face: its plane, side and, for the parts of a triangle not exactly on its plane, that
+  // triangle's plane (Tri::own; numbered from 1 here).
+  using Code = std::int64_t;
+  std::unordered_map<const PL*, int> own_id;
+  std::vector<std::shared_ptr<const PL>> owns{nullptr};
+  for (const Tri& t : piece.tris)
+    if (t.own && own_id.emplace(t.own.get(), static_cast<int>(owns.size())).second) owns.push_back(t.own);
+  auto code = [&](const Tri& t) {
+    return (static_cast<Code>(2 * t.plane + (t.sign > 0 ? 0 : 1)) << 32) | static_cast<Code>(t.own ? own_id.at(t.own.get()) : 0);
+  };
+  auto plane_of = [](Code g) { return static_cast<int>((g >> 32) / 2); };
+  // Up to two faces around each vertex, and whether there are more.
+  std::vector<std::array<Code, 2>> groups(n, {-1, -1});
   std::vector<char> many(n, 0);
   for (const Tri& t : piece.tris)
     for (int v : t.v) {
-      const int g = code(t);
+      const Code g = code(t);
       auto& gv = groups[v];
       if (gv[0] < 0 || gv[0] == g) gv[0] = g;
       else if (gv[1] < 0 || gv[1] == g) gv[1] = g;
@@ -619,7 +688,7 @@ void simplify(const Context& ctx, Piece& piece) {
   for (int v = 0; v < n; ++v) {
     if (many[v] || groups[v][0] < 0) continue;
     if (groups[v][1] >= 0) {
-      const int a = groups[v][0] / 2, b = groups[v][1] / 2;
+      const int a = plane_of(groups[v][0]), b = plane_of(groups[v][1]);
       if (a == b) continue;
       auto [it, fresh] = parallel.try_emplace({std::min(a, b), std::max(a, b)}, false);
       if (fresh) it->second = parallel_planes(ctx, a, b);
@@ -632,7 +701,8 @@ void simplify(const Context& ctx, Piece& piece) {
   // The triangles around a removable vertex must form one cycle (a manifold vertex) crossing
   // between its two faces exactly twice (one straight edge through it).
   struct Link {
-    int v, x, y, g;
+    int v, x, y;
+    Code g;
   };
   std::vector<Link> links;
   for (const Tri& t : piece.tris)
@@ -649,7 +719,8 @@ void simplify(const Context& ctx, Piece& piece) {
     int changes = 0;
     std::array<int, 2> ends{-1, -1};  // the two edges through v where the faces change
     while (ok) {
-      const int y = links[at].y, g = links[at].g;
+      const int y = links[at].y;
+      const Code g = links[at].g;
       auto it = std::lower_bound(links.begin() + static_cast<std::ptrdiff_t>(lo), links.begin() + static_cast<std::ptrdiff_t>(hi), y,
                                  [](const Link& l, int x) { return l.x < x; });
       if (it == links.begin() + static_cast<std::ptrdiff_t>(hi) || it->x != y) ok = false;
@@ -672,18 +743,18 @@ void simplify(const Context& ctx, Piece& piece) {
   // Faces to re-triangulate: those with a removable vertex. Each must lie exactly on its plane
   // (no loose vertex) and have a simple boundary (one outgoing boundary edge per vertex);
   // otherwise its vertices stay, which can leave other faces with nothing to do: repeat.
-  std::map<int, std::vector<int>> face_tris;  // group -> triangles
+  std::map<Code, std::vector<int>> face_tris;  // group -> triangles
   for (int t = 0; t < nt; ++t) face_tris[code(piece.tris[t])].push_back(t);
-  std::map<int, std::unordered_map<int, int>> boundary;  // group -> next along its loops
-  std::set<int> bad;
+  std::map<Code, std::unordered_map<int, int>> boundary;  // group -> next along its loops
+  std::set<Code> bad;
   for (bool again = true; again;) {
     again = false;
-    std::set<int> affected;
+    std::set<Code> affected;
     for (int v = 0; v < n; ++v)
       if (removable[v])
-        for (int g : groups[v])
+        for (Code g : groups[v])
           if (g >= 0) affected.insert(g);
-    for (int g : affected) {
+    for (Code g : affected) {
       if (bad.count(g) || boundary.count(g)) continue;
       bool good = true;
       std::unordered_set<std::uint64_t> directed;
@@ -692,7 +763,7 @@ void simplify(const Context& ctx, Piece& piece) {
         for (int i = 0; i < 3; ++i) {
           directed.insert(key(tri.v[i], tri.v[(i + 1) % 3]));
           const Point& p = piece.pts[tri.v[i]];
-          if (std::binary_search(p.loose.begin(), p.loose.end(), tri.plane)) good = false;
+          if (!tri.own && std::binary_search(p.loose.begin(), p.loose.end(), tri.plane)) { good = false; }
         }
       }
       std::unordered_map<int, int> next;
@@ -708,19 +779,19 @@ void simplify(const Context& ctx, Piece& piece) {
     }
     for (int v = 0; v < n; ++v)
       if (removable[v])
-        for (int g : groups[v])
+        for (Code g : groups[v])
           if (g >= 0 && bad.count(g)) removable[v] = 0, again = true;
   }
-  std::set<int> affected;
+  std::set<Code> affected;
   for (int v = 0; v < n; ++v)
     if (removable[v])
-      for (int g : groups[v])
+      for (Code g : groups[v])
         if (g >= 0) affected.insert(g);
   if (affected.empty()) return;
   std::vector<Tri> tris;
   std::vector<char> replaced(nt, 0);
   std::vector<std::pair<int, int>> segments;
-  for (int g : affected) {
+  for (Code g : affected) {
     const auto& next = boundary.at(g);
     std::vector<int> starts;
     for (const auto& [a, b] : next) starts.push_back(a);
@@ -740,7 +811,8 @@ void simplify(const Context& ctx, Piece& piece) {
       if (loop.size() < 3) return;
       for (size_t i = 0; i < loop.size(); ++i) segments.emplace_back(loop[i], loop[(i + 1) % loop.size()]);
     }
-    const int plane = g / 2, sign = g % 2 ? -1 : 1;
+    const int plane = plane_of(g), sign = (g >> 32) % 2 ? -1 : 1;
+    const std::shared_ptr<const PL>& own = owns[static_cast<size_t>(g & 0xffffffff)];
     std::vector<std::array<int, 3>> filled;
     try {
       filled = fill_region<Ct>(ctx, plane, piece.pts, segments);
@@ -749,7 +821,7 @@ void simplify(const Context& ctx, Piece& piece) {
     }
     for (auto t : filled) {
       if (sign < 0) std::swap(t[1], t[2]);
-      tris.push_back({t, plane, sign});
+      tris.push_back({t, plane, sign, own});
     }
     for (int t : face_tris[g]) replaced[t] = 1;
   }

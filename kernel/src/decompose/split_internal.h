@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <unordered_map>
 #include <vector>
 
@@ -55,10 +56,19 @@ struct Point {
 };
 
 // A triangle on canonical plane `plane`; sign +1: its outward normal is the plane's normal.
+// `own`: null when the triangle lies exactly on its canonical plane; otherwise (a face of a
+// rotated body, or a cap through an input vertex, coplanar with the plane only within the
+// rounding guard) the exact plane of the triangle it is a part of, shared by all its parts:
+// the parts of a triangle lie exactly on that triangle's plane. split_piece() builds the
+// points where a cut crosses their edges from it (plane-based), and simplify() re-triangulates
+// the parts of one such triangle together without changing the exact volume; without that,
+// the points made on the diagonals of such faces were cut again and again, and their
+// coordinates grew without bound.
 struct Tri {
   std::array<int, 3> v;
   int plane;
   int sign;
+  std::shared_ptr<const PL> own = nullptr;
 };
 
 struct Piece {
