@@ -298,6 +298,33 @@ using Cdt = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::No_constra
 
 using Ct = CGAL::Constrained_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
+// Zero-area triangles closing boundary loops whose points all lie on one line: a fan of each
+// loop, oriented so that it holds every boundary edge reversed (as fill_region's triangles do).
+std::vector<std::array<int, 3>> flat_fan(const std::vector<std::pair<int, int>>& segments) {
+  std::unordered_map<int, int> next;
+  for (const auto& [a, b] : segments)
+    if (!next.emplace(a, b).second) HEDRA_UNREACHABLE("split: a cap of no area is not simple loops");
+  std::vector<int> starts;
+  for (const auto& [a, b] : segments) starts.push_back(a);
+  std::sort(starts.begin(), starts.end());
+  std::unordered_set<int> seen;
+  std::vector<std::array<int, 3>> out;
+  for (int s0 : starts) {
+    if (seen.count(s0)) continue;
+    std::vector<int> loop;
+    for (int a = s0; !seen.count(a);) {
+      seen.insert(a);
+      loop.push_back(a);
+      auto it = next.find(a);
+      if (it == next.end()) HEDRA_UNREACHABLE("split: a cap of no area is not closed");
+      a = it->second;
+    }
+    if (next.at(loop.back()) != s0 || loop.size() < 3) HEDRA_UNREACHABLE("split: a cap of no area is not closed");
+    for (size_t i = 1; i + 1 < loop.size(); ++i) out.push_back({loop[0], loop[i + 1], loop[i]});
+  }
+  return out;
+}
+
 // Triangles (counter-clockwise around the plane's normal) filling the region of the plane
 // bounded by the given segments (point ids), by parity of constrained edges crossed. Tr is the
 // constrained Delaunay triangulation (caps) or the plain constrained one (re-triangulated
@@ -333,8 +360,11 @@ std::vector<std::array<int, 3>> fill_region(const Context& ctx, int plane, const
   } catch (const typename Tr::Intersection_of_constraints_exception&) {
     HEDRA_UNREACHABLE("split: the cut's boundary crosses itself");
   }
-  // Corners all on one line (a cap of no area, only from a degenerate boundary): no 2D faces.
-  if (cdt.dimension() < 2) HEDRA_UNREACHABLE("split: the cut's boundary encloses no area");
+  // Corners all on one line: the cut meets the piece in a segment only, where the piece has
+  // no thickness (a sliver of a rotated float32 soup whose faces coincide exactly there). The
+  // boundary loops are closed by zero-area triangles, which keep the pieces closed and add no
+  // volume (exact_convex() and body_of() treat them as joins only).
+  if (cdt.dimension() < 2) return flat_fan(segments);
   for (auto f = cdt.all_faces_begin(); f != cdt.all_faces_end(); ++f) f->info() = -1;
   std::list<typename Tr::Face_handle> queue{cdt.infinite_face()};
   cdt.infinite_face()->info() = 0;
