@@ -49,12 +49,18 @@ void add_on_sorted(std::vector<int>& ids, int id) {
 
 void add_on(Point& pt, int id) { add_on_sorted(pt.on, id); }
 
+namespace {
+
+// Tri::own of a triangle with corners v on canonical plane `plane`: null when every corner lies
+// on it exactly, else the exact plane of the corners.
 std::shared_ptr<const PL> own_plane(const std::vector<Point>& pts, const std::array<int, 3>& v, int plane) {
   for (int w : v)
     if (std::binary_search(pts[w].loose.begin(), pts[w].loose.end(), plane))
       return std::make_shared<const PL>(pts[v[0]].p, pts[v[1]].p, pts[v[2]].p);
   return nullptr;
 }
+
+}  // namespace
 
 // ---- From a body ---------------------------------------------------------------------------
 

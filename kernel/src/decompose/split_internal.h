@@ -122,8 +122,9 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane);
 // triangulation). Cuts leave such vertices behind (cut points of crossed triangles, a cap's
 // points on straight runs); without this they pile up in the descendants and every later cut
 // pays for them. Decided symbolically (which faces meet at a vertex); only faces whose
-// vertices all lie exactly on their plane are re-triangulated, so the exact volume and every
-// exact side are unchanged. Leaves the piece as it is where a face is not a simple set of
+// vertices all lie exactly on their plane are re-triangulated — a face is the triangles on one
+// canonical plane and side, or the parts of one triangle off it (Tri::own, exactly on their own
+// plane) — so the exact volume and every exact side are unchanged. Leaves the piece as it is where a face is not a simple set of
 // loops. Cost O(T log T) plus the triangulation of the changed faces.
 void simplify(const Context& ctx, Piece& piece);
 // A piece back to a Body (coordinates rounded once). Cost O(T log T).
