@@ -750,7 +750,7 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
     int face = -1;
     // The parts of one triangle lie on its plane by construction.
     if (tri.own)
-      if (auto it = own_face.find(tri.own.get()); it != own_face.end() && refs[static_cast<size_t>(it->second)].canonical_sign == tri.sign)
+      if (auto it = own_face.find(tri.own); it != own_face.end() && refs[static_cast<size_t>(it->second)].canonical_sign == tri.sign)
         face = it->second;
     for (size_t f = 0; f < refs.size() && face < 0; ++f) {
       const FaceRef& r = refs[f];
@@ -767,12 +767,12 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
       r.inner = CGAL::orientation(point(tri.v[0]), point(tri.v[1]), point(tri.v[2]), *inside);
       if (r.inner == CGAL::COPLANAR) return std::nullopt;
       if (tri.own) {
-        r.own = tri.own.get();
+        r.own = tri.own;
         r.own_inner = r.own->oriented_side(*inside);
         if (r.own_inner == CGAL::ON_ORIENTED_BOUNDARY) return std::nullopt;
       }
       face = static_cast<int>(out.faces.size());
-      if (tri.own) own_face.emplace(tri.own.get(), face);
+      if (tri.own) own_face.emplace(tri.own, face);
       refs.push_back(r);
       out.faces.emplace_back();  // its plane once the piece is known to be convex (below)
     }

@@ -53,10 +53,10 @@ namespace {
 
 // Tri::own of a triangle with corners v on canonical plane `plane`: null when every corner lies
 // on it exactly, else the exact plane of the corners.
-std::shared_ptr<const PL> own_plane(const std::vector<Point>& pts, const std::array<int, 3>& v, int plane) {
+const PL* own_plane(const Context& ctx, const std::vector<Point>& pts, const std::array<int, 3>& v, int plane) {
   for (int w : v)
     if (std::binary_search(pts[w].loose.begin(), pts[w].loose.end(), plane))
-      return std::make_shared<const PL>(pts[v[0]].p, pts[v[1]].p, pts[v[2]].p);
+      return ctx.keep_own_plane(pts[v[0]].p, pts[v[1]].p, pts[v[2]].p);
   return nullptr;
 }
 
@@ -244,7 +244,7 @@ Piece piece_of(const Body& body, Context& ctx) {
   }
   for (const Triangle& t : body.triangles()) {
     const int g = group[t.face];
-    piece.tris.push_back({t.v, g, sign[t.face], own_plane(piece.pts, t.v, g)});
+    piece.tris.push_back({t.v, g, sign[t.face], own_plane(ctx, piece.pts, t.v, g)});
   }
   return piece;
 }
@@ -527,20 +527,30 @@ std::vector<std::array<int, 3>> chained_cap(const Context& ctx, int plane, std::
 
 namespace {
 
-// The exact point where edge ab crosses canonical plane `plane`, q.on and q.loose already
-// filled; `exact` lists the exact planes of the triangles on either side of the edge. Where
-// the edge lies exactly on two planes (those, or canonical planes it is on exactly) whose
-// normals are independent of the cutting plane's, the point is built as the intersection of
-// the three planes (plane-based: its coordinates are rationals of bounded size, a few
-// products of the input doubles, however many cuts made a and b). Otherwise (a diagonal
-// inside a face) as the segment's intersection with the plane; simplify() then removes it
-// again. The same point either way: only the cost of the exact arithmetic on it differs.
-// Built from a and b alone, the coordinates of points made by cuts of cuts grew without
-// bound (a rotated 35-point star prism took minutes).
-P3 cut_point_of(const Context& ctx, const Point& a, const Point& b, const Point& q, int plane,
-                const std::array<const PL*, 2>& exact) {
+// The exact point where edge ab crosses canonical plane `plane` (q.on and q.loose already
+// filled; exact_at() the exact planes of the triangles on either side of the edge), and its
+// construction depth (Point::depth). Normally the segment's intersection with the plane; kept
+// as plain doubles (depth 0) where its interval is a point (most cut points of an
+// axis-aligned body). Where an end was itself made by a chain of cuts (depth ≥ 2) and the edge
+// lies exactly on two planes whose normals are independent of the cutting plane's, the point
+// is built as the intersection of the three planes instead (plane-based, depth 1): its
+// coordinates are then rationals of a fixed size, however many cuts made a and b. The same
+// point either way: only the cost of exact arithmetic on it differs. The plane-based form is
+// not used for shallow ends, where it costs more than the segment (the rotated suite shapes'
+// decompositions were up to 20 % slower with it everywhere).
+template <class ExactAt>
+std::pair<P3, int> cut_point_of(const Context& ctx, const Point& a, const Point& b, const Point& q, int plane,
+                                const ExactAt& exact_at) {
+  auto hit = CGAL::intersection(EK::Segment_3(a.p, b.p), ctx.planes[plane]);
+  const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
+  HEDRA_ASSERT(x, "split: an edge with ends on both sides misses the plane");
+  const auto ix = CGAL::to_interval(x->x()), iy = CGAL::to_interval(x->y()), iz = CGAL::to_interval(x->z());
+  if (ix.first == ix.second && iy.first == iy.second && iz.first == iz.second)
+    return {P3(ix.first, iy.first, iz.first), 0};
+  const int depth = std::max(a.depth, b.depth) + 1;
+  if (depth <= 2) return {*x, depth};
   std::vector<const PL*> exact_on;
-  for (const PL* f : exact)
+  for (const PL* f : exact_at())
     if (f) exact_on.push_back(f);
   for (int id : q.on)
     if (id != plane && !std::binary_search(q.loose.begin(), q.loose.end(), id)) exact_on.push_back(&ctx.planes[id]);
@@ -550,15 +560,12 @@ P3 cut_point_of(const Context& ctx, const Point& a, const Point& b, const Point&
       const PL& f = *exact_on[i];
       const PL& g = *exact_on[j];
       if (CGAL::is_zero(CGAL::determinant(n, f.orthogonal_vector(), g.orthogonal_vector()))) continue;
-      auto hit = CGAL::intersection(ctx.planes[plane], f, g);
-      const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
-      HEDRA_ASSERT(x, "split: three independent planes do not meet in a point");
-      return *x;
+      auto meet = CGAL::intersection(ctx.planes[plane], f, g);
+      const P3* point = meet ? boost::get<P3>(&*meet) : nullptr;
+      HEDRA_ASSERT(point, "split: three independent planes do not meet in a point");
+      return {*point, 1};
     }
-  auto hit = CGAL::intersection(EK::Segment_3(a.p, b.p), ctx.planes[plane]);
-  const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
-  HEDRA_ASSERT(x, "split: an edge with ends on both sides misses the plane");
-  return *x;
+  return {*x, depth};
 }
 
 }  // namespace
@@ -588,18 +595,23 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       add_on_sorted(pts[i].loose, plane);
   }
   std::unordered_map<std::uint64_t, int> cut_point;  // undirected edge -> new point
-  // The exact planes of the triangles on either side of each edge (Tri::own, or the
-  // canonical plane).
+  // The exact planes of the triangles on either side of each edge the plane crosses (Tri::own,
+  // or the canonical plane); only triangles with corners on both sides have such edges. Made
+  // when the first cut point needs them (cut_point_of).
   std::unordered_map<std::uint64_t, std::array<const PL*, 2>> exact_at;
-  if (!ctx.floating)
-    for (const Tri& t : in.tris) {
-      const PL* own = t.own ? t.own.get() : &ctx.planes[t.plane];
-      for (int i = 0; i < 3; ++i) {
-        const int a = t.v[i], b = t.v[(i + 1) % 3];
-        auto [it, fresh] = exact_at.try_emplace(key(std::min(a, b), std::max(a, b)), std::array<const PL*, 2>{own, nullptr});
-        if (!fresh && it->second[0] != own) it->second[1] = own;
+  const auto exact_planes_at = [&](std::uint64_t edge) {
+    if (exact_at.empty())
+      for (const Tri& t : in.tris) {
+        if (std::min({s[t.v[0]], s[t.v[1]], s[t.v[2]]}) >= 0 || std::max({s[t.v[0]], s[t.v[1]], s[t.v[2]]}) <= 0) continue;
+        const PL* own = t.own ? t.own : &ctx.planes[t.plane];
+        for (int i = 0; i < 3; ++i) {
+          const int a = t.v[i], b = t.v[(i + 1) % 3];
+          auto [it, fresh] = exact_at.try_emplace(key(std::min(a, b), std::max(a, b)), std::array<const PL*, 2>{own, nullptr});
+          if (!fresh && it->second[0] != own) it->second[1] = own;
+        }
       }
-    }
+    return exact_at.at(edge);
+  };
   auto crossing = [&](int a, int b) {
     const std::uint64_t k = key(std::min(a, b), std::max(a, b));
     auto it = cut_point.find(k);
@@ -622,7 +634,7 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       for (int id : *loose)
         if (std::binary_search(q.on.begin(), q.on.end(), id)) add_on_sorted(q.loose, id);
     if (!ctx.floating) {
-      q.p = cut_point_of(ctx, pts[lo], pts[hi], q, plane, exact_at.at(k));
+      std::tie(q.p, q.depth) = cut_point_of(ctx, pts[lo], pts[hi], q, plane, [&] { return exact_planes_at(k); });
     }
     const int id = static_cast<int>(pts.size());
     pts.push_back(std::move(q));
@@ -681,7 +693,7 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
     const auto cap = ctx.floating || !ctx.simplify ? cap_triangles(ctx, plane, pts, boundary)
                                                    : chained_cap(ctx, plane, pts, boundary);
     for (const auto& tri : cap) {
-      std::shared_ptr<const PL> own = ctx.floating ? nullptr : own_plane(pts, tri, plane);
+      const PL* own = ctx.floating ? nullptr : own_plane(ctx, pts, tri, plane);
       below.push_back({tri, plane, 1, own});
       above.push_back({{tri[0], tri[2], tri[1]}, plane, -1, own});
     }
@@ -700,11 +712,11 @@ void simplify(const Context& ctx, Piece& piece) {
   // triangle's plane (Tri::own; numbered from 1 here).
   using Code = std::int64_t;
   std::unordered_map<const PL*, int> own_id;
-  std::vector<std::shared_ptr<const PL>> owns{nullptr};
+  std::vector<const PL*> owns{nullptr};
   for (const Tri& t : piece.tris)
-    if (t.own && own_id.emplace(t.own.get(), static_cast<int>(owns.size())).second) owns.push_back(t.own);
+    if (t.own && own_id.emplace(t.own, static_cast<int>(owns.size())).second) owns.push_back(t.own);
   auto code = [&](const Tri& t) {
-    return (static_cast<Code>(2 * t.plane + (t.sign > 0 ? 0 : 1)) << 32) | static_cast<Code>(t.own ? own_id.at(t.own.get()) : 0);
+    return (static_cast<Code>(2 * t.plane + (t.sign > 0 ? 0 : 1)) << 32) | static_cast<Code>(t.own ? own_id.at(t.own) : 0);
   };
   auto plane_of = [](Code g) { return static_cast<int>((g >> 32) / 2); };
   // Up to two faces around each vertex, and whether there are more.
@@ -730,6 +742,11 @@ void simplify(const Context& ctx, Piece& piece) {
       if (fresh) it->second = parallel_planes(ctx, a, b);
       if (it->second) continue;
     }
+    // On the parts of a triangle off its plane, only points made by a chain of cuts: removing
+    // the others costs more re-triangulation than it saves (rotated suite shapes 15–20 %
+    // slower), and a point cut again is removed then.
+    const auto folded = [&](Code g) { return g >= 0 && (g & 0xffffffff) != 0; };
+    if ((folded(groups[v][0]) || folded(groups[v][1])) && piece.pts[v].depth < 2) continue;
     removable[v] = 1;
     any = true;
   }
@@ -848,7 +865,7 @@ void simplify(const Context& ctx, Piece& piece) {
       for (size_t i = 0; i < loop.size(); ++i) segments.emplace_back(loop[i], loop[(i + 1) % loop.size()]);
     }
     const int plane = plane_of(g), sign = (g >> 32) % 2 ? -1 : 1;
-    const std::shared_ptr<const PL>& own = owns[static_cast<size_t>(g & 0xffffffff)];
+    const PL* own = owns[static_cast<size_t>(g & 0xffffffff)];
     std::vector<std::array<int, 3>> filled;
     try {
       filled = fill_region<Ct>(ctx, plane, piece.pts, segments);

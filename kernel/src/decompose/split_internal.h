@@ -6,7 +6,8 @@
 
 #include <array>
 #include <cstdint>
-#include <memory>
+#include <deque>
+#include <mutex>
 #include <unordered_map>
 #include <vector>
 
@@ -42,6 +43,14 @@ struct Context {
   // that piece_of() finds a face's plane among the planes met before without scanning them all.
   std::unordered_map<std::uint64_t, std::vector<int>> normal_cells;
   size_t indexed = 0;
+  // The exact planes of triangles off their canonical plane (Tri::own): made while reading the
+  // body and by caps (cuts run in parallel, hence the lock); a deque keeps their addresses.
+  mutable std::mutex own_mutex;
+  mutable std::deque<PL> own_planes;
+  const PL* keep_own_plane(const P3& a, const P3& b, const P3& c) const {
+    std::lock_guard<std::mutex> lock(own_mutex);
+    return &own_planes.emplace_back(a, b, c);
+  }
 };
 
 struct Point {
@@ -52,6 +61,9 @@ struct Point {
   // vertex is never re-triangulated (simplify), since that would change the exact volume.
   std::vector<int> loose;
   int origin = -1;      // input vertex id, or −1 for a point made by a cut
+  // Construction depth: 0 for input vertices and cut points that are doubles, else the
+  // number of segment intersections in the chain that made it (split.cpp, cut_point_of).
+  int depth = 0;
   Vec3 input = Vec3::Zero();  // the input's double coordinates (origin >= 0)
 };
 
@@ -68,7 +80,7 @@ struct Tri {
   std::array<int, 3> v;
   int plane;
   int sign;
-  std::shared_ptr<const PL> own = nullptr;
+  const PL* own = nullptr;  // in Context::own_planes
 };
 
 struct Piece {
