@@ -68,14 +68,16 @@ struct Point {
 };
 
 // A triangle on canonical plane `plane`; sign +1: its outward normal is the plane's normal.
-// `own`: null when the triangle lies exactly on its canonical plane; otherwise (a face of a
-// rotated body, or a cap through an input vertex, coplanar with the plane only within the
-// rounding guard) the exact plane of the triangle it is a part of, shared by all its parts:
-// the parts of a triangle lie exactly on that triangle's plane. split_piece() builds the
-// points where a cut crosses their edges from it (plane-based), and simplify() re-triangulates
-// the parts of one such triangle together without changing the exact volume; without that,
-// the points made on the diagonals of such faces were cut again and again, and their
-// coordinates grew without bound.
+// `own`: where the triangle is coplanar with its canonical plane only within the rounding
+// guard (a face of a rotated body; a cap through a guarded input vertex, where the cap holds
+// points made by chains of cuts), the exact plane of the triangle it is a part of, shared by
+// all its parts: the parts of a triangle lie exactly on that triangle's plane. split_piece()
+// can build the points where a cut crosses their edges from it (plane-based), and simplify()
+// re-triangulates the parts of one such triangle together without changing the exact volume;
+// without that, the points made on the diagonals of such faces were cut again and again, and
+// their coordinates grew without bound. Null otherwise, which does not mean the triangle lies
+// exactly on its canonical plane (a cap through a guarded vertex may not; its vertices' `loose`
+// lists say so).
 struct Tri {
   std::array<int, 3> v;
   int plane;
