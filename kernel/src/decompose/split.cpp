@@ -827,7 +827,7 @@ void simplify(const Context& ctx, Piece& piece) {
         for (int i = 0; i < 3; ++i) {
           directed.insert(key(tri.v[i], tri.v[(i + 1) % 3]));
           const Point& p = piece.pts[tri.v[i]];
-          if (!tri.own && std::binary_search(p.loose.begin(), p.loose.end(), tri.plane)) { good = false; }
+          if (!tri.own && std::binary_search(p.loose.begin(), p.loose.end(), tri.plane)) good = false;
         }
       }
       std::unordered_map<int, int> next;
