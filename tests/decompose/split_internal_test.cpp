@@ -33,8 +33,7 @@ EK::FT volume6(const Piece& piece) {
 // their exact coordinates grew by about 150 bits a cut: a rotated 35-point star prism took
 // minutes to decompose, spent in GMP's gcd. Now the parts of a folded triangle are
 // re-triangulated together (Tri::own), which removes the points cuts leave on their
-// diagonals, and a point whose ends were made by chains of cuts is the intersection of three
-// planes, so the size stays bounded however many cuts cross the same place. Checked on a
+// diagonals, so the size stays bounded however many cuts cross the same place. Checked on a
 // binary space partition of a rotated star prism by every one of its face planes (each region
 // of the top face is cut again and again), with the exact volume kept.
 TEST(Split, CutPointsOfARotatedBodyStayBoundedUnderRepeatedCuts) {

@@ -13,6 +13,7 @@
 #include <set>
 #include <tuple>
 #include <numeric>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -304,17 +305,18 @@ using Cdt = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::No_constra
 
 using Ct = CGAL::Constrained_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
-// Zero-area triangles closing boundary loops whose points all lie on one line: a fan of each
-// loop, oriented so that it holds every boundary edge reversed (as fill_region's triangles do).
-std::vector<std::array<int, 3>> flat_fan(const std::vector<std::pair<int, int>>& segments) {
+// The boundary segments (point ids) as closed loops, each starting at its smallest start (the
+// same loops every run); nullopt where they are not simple closed loops (a point with two
+// outgoing segments, or a walk that does not come back to its start). Cost O(n log n).
+std::optional<std::vector<std::vector<int>>> simple_loops(const std::vector<std::pair<int, int>>& segments) {
   std::unordered_map<int, int> next;
   for (const auto& [a, b] : segments)
-    if (!next.emplace(a, b).second) HEDRA_UNREACHABLE("split: a cap of no area is not simple loops");
+    if (!next.emplace(a, b).second) return std::nullopt;
   std::vector<int> starts;
   for (const auto& [a, b] : segments) starts.push_back(a);
   std::sort(starts.begin(), starts.end());
   std::unordered_set<int> seen;
-  std::vector<std::array<int, 3>> out;
+  std::vector<std::vector<int>> loops;
   for (int s0 : starts) {
     if (seen.count(s0)) continue;
     std::vector<int> loop;
@@ -322,10 +324,23 @@ std::vector<std::array<int, 3>> flat_fan(const std::vector<std::pair<int, int>>&
       seen.insert(a);
       loop.push_back(a);
       auto it = next.find(a);
-      if (it == next.end()) HEDRA_UNREACHABLE("split: a cap of no area is not closed");
+      if (it == next.end()) return std::nullopt;
       a = it->second;
     }
-    if (next.at(loop.back()) != s0 || loop.size() < 3) HEDRA_UNREACHABLE("split: a cap of no area is not closed");
+    if (next.at(loop.back()) != s0) return std::nullopt;
+    loops.push_back(std::move(loop));
+  }
+  return loops;
+}
+
+// Zero-area triangles closing boundary loops whose points all lie on one line: a fan of each
+// loop, oriented so that it holds every boundary edge reversed (as fill_region's triangles do).
+std::vector<std::array<int, 3>> flat_fan(const std::vector<std::pair<int, int>>& segments) {
+  const auto loops = simple_loops(segments);
+  if (!loops) HEDRA_UNREACHABLE("split: a cap of no area is not simple closed loops");
+  std::vector<std::array<int, 3>> out;
+  for (const std::vector<int>& loop : *loops) {
+    if (loop.size() < 3) HEDRA_UNREACHABLE("split: a cap of no area has a loop of two points");
     for (size_t i = 1; i + 1 < loop.size(); ++i) out.push_back({loop[0], loop[i + 1], loop[i]});
   }
   return out;
@@ -428,27 +443,13 @@ bool inside_run(const Context& ctx, int plane, const Point& a, const Point& b, c
 // centroids to pts.
 std::vector<std::array<int, 3>> chained_cap(const Context& ctx, int plane, std::vector<Point>& pts,
                                             const std::vector<std::pair<int, int>>& segments) {
-  std::unordered_map<int, int> next, prev;
-  for (const auto& [a, b] : segments)
-    if (!next.emplace(a, b).second || !prev.emplace(b, a).second) return cap_triangles(ctx, plane, pts, segments);
-  std::vector<int> starts;
-  for (const auto& [a, b] : segments) starts.push_back(a);
-  std::sort(starts.begin(), starts.end());
-  std::unordered_set<int> seen;
+  // Closed walks from every start also rule out a point with two incoming segments.
+  const auto loops = simple_loops(segments);
+  if (!loops) return cap_triangles(ctx, plane, pts, segments);
   std::vector<std::pair<int, int>> corners;              // reduced segments
   std::unordered_map<std::uint64_t, std::vector<int>> run;  // corner segment -> points inside
   size_t inside = 0;
-  for (int s0 : starts) {
-    if (seen.count(s0)) continue;
-    std::vector<int> loop;
-    for (int a = s0; !seen.count(a);) {
-      seen.insert(a);
-      loop.push_back(a);
-      auto it = next.find(a);
-      if (it == next.end()) return cap_triangles(ctx, plane, pts, segments);
-      a = it->second;
-    }
-    if (next.at(loop.back()) != s0) return cap_triangles(ctx, plane, pts, segments);
+  for (const std::vector<int>& loop : *loops) {
     const size_t k = loop.size();
     std::vector<char> corner(k);
     int count = 0;
@@ -527,45 +528,20 @@ std::vector<std::array<int, 3>> chained_cap(const Context& ctx, int plane, std::
 
 namespace {
 
-// The exact point where edge ab crosses canonical plane `plane` (q.on and q.loose already
-// filled; exact_at() the exact planes of the triangles on either side of the edge), and its
-// construction depth (Point::depth). Normally the segment's intersection with the plane; kept
-// as plain doubles (depth 0) where its interval is a point (most cut points of an
-// axis-aligned body). Where an end was itself made by a chain of cuts (depth ≥ 2) and the edge
-// lies exactly on two planes whose normals are independent of the cutting plane's, the point
-// is built as the intersection of the three planes instead (plane-based, depth 1): its
-// coordinates are then rationals of a fixed size, however many cuts made a and b. The same
-// point either way: only the cost of exact arithmetic on it differs. The plane-based form is
-// not used for shallow ends, where it costs more than the segment (the rotated suite shapes'
-// decompositions were up to 20 % slower with it everywhere).
-template <class ExactAt>
-std::pair<P3, int> cut_point_of(const Context& ctx, const Point& a, const Point& b, const Point& q, int plane,
-                                const ExactAt& exact_at) {
+// The exact point where edge ab crosses canonical plane `plane`, and its construction depth
+// (Point::depth): the segment's intersection with the plane, kept as plain doubles (depth 0)
+// where the interval of that construction is a point (most cut points of an axis-aligned
+// body). Building such points as the intersection of three planes where the ends were made by
+// chains of cuts was tried: it made no measurable difference once simplify() re-triangulates
+// folded faces (Tri::own), and cost more than the segment on shallow ends.
+std::pair<P3, int> cut_point_of(const Context& ctx, const Point& a, const Point& b, int plane) {
   auto hit = CGAL::intersection(EK::Segment_3(a.p, b.p), ctx.planes[plane]);
   const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
   HEDRA_ASSERT(x, "split: an edge with ends on both sides misses the plane");
   const auto ix = CGAL::to_interval(x->x()), iy = CGAL::to_interval(x->y()), iz = CGAL::to_interval(x->z());
   if (ix.first == ix.second && iy.first == iy.second && iz.first == iz.second)
     return {P3(ix.first, iy.first, iz.first), 0};
-  const int depth = std::max(a.depth, b.depth) + 1;
-  if (depth <= 2) return {*x, depth};
-  std::vector<const PL*> exact_on;
-  for (const PL* f : exact_at())
-    if (f) exact_on.push_back(f);
-  for (int id : q.on)
-    if (id != plane && !std::binary_search(q.loose.begin(), q.loose.end(), id)) exact_on.push_back(&ctx.planes[id]);
-  const EK::Vector_3 n = ctx.planes[plane].orthogonal_vector();
-  for (size_t i = 0; i < exact_on.size(); ++i)
-    for (size_t j = i + 1; j < exact_on.size(); ++j) {
-      const PL& f = *exact_on[i];
-      const PL& g = *exact_on[j];
-      if (CGAL::is_zero(CGAL::determinant(n, f.orthogonal_vector(), g.orthogonal_vector()))) continue;
-      auto meet = CGAL::intersection(ctx.planes[plane], f, g);
-      const P3* point = meet ? boost::get<P3>(&*meet) : nullptr;
-      HEDRA_ASSERT(point, "split: three independent planes do not meet in a point");
-      return {*point, 1};
-    }
-  return {*x, depth};
+  return {*x, std::max(a.depth, b.depth) + 1};
 }
 
 }  // namespace
@@ -595,26 +571,6 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       add_on_sorted(pts[i].loose, plane);
   }
   std::unordered_map<std::uint64_t, int> cut_point;  // undirected edge -> new point
-  // The own planes (Tri::own) of the triangles on either side of each edge the plane crosses;
-  // only triangles with corners on both sides have such edges. Made when the first cut point
-  // needs them (cut_point_of). A triangle without one is not taken to lie on its canonical
-  // plane: a cap through a guarded vertex may not.
-  std::unordered_map<std::uint64_t, std::array<const PL*, 2>> exact_at;
-  const auto exact_planes_at = [&](std::uint64_t edge) {
-    if (exact_at.empty())
-      for (const Tri& t : in.tris) {
-        if (std::min({s[t.v[0]], s[t.v[1]], s[t.v[2]]}) >= 0 || std::max({s[t.v[0]], s[t.v[1]], s[t.v[2]]}) <= 0) continue;
-        if (!t.own) continue;  // an exact canonical plane is in the ends' `on` lists already
-        const PL* own = t.own;
-        for (int i = 0; i < 3; ++i) {
-          const int a = t.v[i], b = t.v[(i + 1) % 3];
-          auto [it, fresh] = exact_at.try_emplace(key(std::min(a, b), std::max(a, b)), std::array<const PL*, 2>{own, nullptr});
-          if (!fresh && it->second[0] != own) it->second[1] = own;
-        }
-      }
-    const auto it = exact_at.find(edge);
-    return it == exact_at.end() ? std::array<const PL*, 2>{nullptr, nullptr} : it->second;
-  };
   auto crossing = [&](int a, int b) {
     const std::uint64_t k = key(std::min(a, b), std::max(a, b));
     auto it = cut_point.find(k);
@@ -629,6 +585,8 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       const double va = ctx.approx[plane].value(pa), vb = ctx.approx[plane].value(pb);
       const Vec3 x = pa + (va / (va - vb)) * (pb - pa);
       q.p = P3(x.x(), x.y(), x.z());
+    } else {
+      std::tie(q.p, q.depth) = cut_point_of(ctx, pts[lo], pts[hi], plane);
     }
     std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),
                           pts[hi].on.end(), std::back_inserter(q.on));
@@ -636,9 +594,6 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
     for (const std::vector<int>* loose : {&pts[lo].loose, &pts[hi].loose})
       for (int id : *loose)
         if (std::binary_search(q.on.begin(), q.on.end(), id)) add_on_sorted(q.loose, id);
-    if (!ctx.floating) {
-      std::tie(q.p, q.depth) = cut_point_of(ctx, pts[lo], pts[hi], q, plane, [&] { return exact_planes_at(k); });
-    }
     const int id = static_cast<int>(pts.size());
     pts.push_back(std::move(q));
     cut_point.emplace(k, id);

@@ -63,6 +63,7 @@ struct Point {
   int origin = -1;      // input vertex id, or −1 for a point made by a cut
   // Construction depth: 0 for input vertices and cut points that are doubles, else the
   // number of segment intersections in the chain that made it (split.cpp, cut_point_of).
+  // Caps and simplify() spend work on folded faces only where points are deep.
   int depth = 0;
   Vec3 input = Vec3::Zero();  // the input's double coordinates (origin >= 0)
 };
@@ -71,8 +72,7 @@ struct Point {
 // `own`: where the triangle is coplanar with its canonical plane only within the rounding
 // guard (a face of a rotated body; a cap through a guarded input vertex, where the cap holds
 // points made by chains of cuts), the exact plane of the triangle it is a part of, shared by
-// all its parts: the parts of a triangle lie exactly on that triangle's plane. split_piece()
-// can build the points where a cut crosses their edges from it (plane-based), and simplify()
+// all its parts: the parts of a triangle lie exactly on that triangle's plane. simplify()
 // re-triangulates the parts of one such triangle together without changing the exact volume;
 // without that, the points made on the diagonals of such faces were cut again and again, and
 // their coordinates grew without bound. Null otherwise, which does not mean the triangle lies
