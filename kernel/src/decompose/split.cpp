@@ -17,6 +17,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "core/rational_predicates.h"
 #include "decompose/split_internal.h"
 #include "hedra/core/error.h"
 #include "hedra/core/predicates.h"
@@ -25,6 +26,18 @@
 
 namespace hedra {
 namespace internal {
+
+namespace {
+
+// The point's coordinates, where they are doubles (their intervals are points).
+bool as_doubles(const P3& p, Vec3& out) {
+  const auto& a = p.approx();
+  if (a.x().inf() != a.x().sup() || a.y().inf() != a.y().sup() || a.z().inf() != a.z().sup()) return false;
+  out = Vec3(a.x().inf(), a.y().inf(), a.z().inf());
+  return true;
+}
+
+}  // namespace
 
 // Side of a point with respect to canonical plane `id`: +1 outside (positive side), −1, or 0.
 // Zero when the point lies on the plane by construction (symbolic), when the exact predicate
@@ -37,10 +50,20 @@ int side(const Context& ctx, const Point& pt, int id) {
     return v > ctx.epsilon ? 1 : (v < -ctx.epsilon ? -1 : 0);
   }
   if (std::binary_search(pt.on.begin(), pt.on.end(), id)) return 0;
-  const CGAL::Oriented_side s = ctx.planes[id].oriented_side(pt.p);
-  if (s == CGAL::ON_ORIENTED_BOUNDARY) return 0;
+  // A point with double coordinates (an input vertex, most cut points of an axis-aligned body)
+  // and a plane through three input vertices: orient3d on doubles (a static filter, exact
+  // after), the same sign as the exact plane's, without the interval stage's rounding-mode
+  // switches or rational arithmetic.
+  const auto& sp = ctx.support[id];
+  Vec3 x;
+  int s;
+  if (sp[0] != sp[1] && (pt.origin >= 0 || as_doubles(pt.p, x)))
+    s = static_cast<int>(orient3d(sp[0], sp[1], sp[2], pt.origin >= 0 ? pt.input : x));
+  else
+    s = static_cast<int>(ctx.planes[id].oriented_side(pt.p));
+  if (s == 0) return 0;
   if (ctx.guard > 0 && pt.origin >= 0 && std::abs(ctx.approx[id].value(pt.input)) <= ctx.guard) return 0;
-  return s == CGAL::ON_POSITIVE_SIDE ? 1 : -1;
+  return s;
 }
 
 void add_on_sorted(std::vector<int>& ids, int id) {
@@ -297,13 +320,16 @@ std::vector<Piece> components(const std::vector<Point>& pts, const std::vector<T
 
 // ---- Caps --------------------------------------------------------------------------------
 
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, EK>;
-using Fb0 = CGAL::Constrained_triangulation_face_base_2<EK>;
-using Fb = CGAL::Triangulation_face_base_with_info_2<int, EK, Fb0>;
+// Epeck with orientation and in-circle tests whose exact stage is in integers (no gcd per
+// operation): core/rational_predicates.h.
+using Gt = RationalTriangulationTraits;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, Gt>;
+using Fb0 = CGAL::Constrained_triangulation_face_base_2<Gt>;
+using Fb = CGAL::Triangulation_face_base_with_info_2<int, Gt, Fb0>;
 using Tds = CGAL::Triangulation_data_structure_2<Vb, Fb>;
-using Cdt = CGAL::Constrained_Delaunay_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
+using Cdt = CGAL::Constrained_Delaunay_triangulation_2<Gt, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
-using Ct = CGAL::Constrained_triangulation_2<EK, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
+using Ct = CGAL::Constrained_triangulation_2<Gt, Tds, CGAL::No_constraint_intersection_requiring_constructions_tag>;
 
 // The boundary segments (point ids) as closed loops, each starting at its smallest start (the
 // same loops every run); nullopt where they are not simple closed loops (a point with two
