@@ -656,7 +656,9 @@ TEST(Roberts, RotatedFloat32PartsAreDrawnWithTheirExactPieces) {
   EXPECT_GT(exact_pieces, 6 * 4);  // the pieces are exactly convex: the exact path is the one taken
   // With the rounded pieces' volumes: 5 slivers (1e-16 … 1e-15) and one drawing 0.75 too long
   // (1.3 %). With the exact pieces' volumes: one hidden part 5e-16 long at the end of a vertical
-  // edge of the L in scene 4 (both views), not explained yet (docs/stability.md).
+  // edge of the L in scene 4 (both views). An exact ray cast finds it visible: the ray from the
+  // edge's end vertex crosses the rounded volume of an L piece that is not exactly convex
+  // (docs/design.md, "Not done yet").
   EXPECT_LE(slivers, 2);
 }
 
