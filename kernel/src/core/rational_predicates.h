@@ -57,8 +57,6 @@ inline bool doubles(const EK::Point_2& p, CGAL::Epick::Point_2& out) {
   return true;
 }
 
-inline int sign_of(const mpz_class& v) { return sgn(v); }
-
 // Sign of | a0 a1 a2 ; b0 b1 b2 ; c0 c1 c2 |.
 inline int det3_sign(const mpz_class& a0, const mpz_class& a1, const mpz_class& a2,
                      const mpz_class& b0, const mpz_class& b1, const mpz_class& b2,
@@ -66,7 +64,7 @@ inline int det3_sign(const mpz_class& a0, const mpz_class& a1, const mpz_class& 
   const mpz_class m0 = b1 * c2 - b2 * c1;
   const mpz_class m1 = b0 * c2 - b2 * c0;
   const mpz_class m2 = b0 * c1 - b1 * c0;
-  return sign_of(a0 * m0 - a1 * m1 + a2 * m2);
+  return sgn(a0 * m0 - a1 * m1 + a2 * m2);
 }
 
 }  // namespace rational

@@ -564,9 +564,7 @@ std::pair<P3, int> cut_point_of(const Context& ctx, const Point& a, const Point&
   auto hit = CGAL::intersection(EK::Segment_3(a.p, b.p), ctx.planes[plane]);
   const P3* x = hit ? boost::get<P3>(&*hit) : nullptr;
   HEDRA_ASSERT(x, "split: an edge with ends on both sides misses the plane");
-  const auto ix = CGAL::to_interval(x->x()), iy = CGAL::to_interval(x->y()), iz = CGAL::to_interval(x->z());
-  if (ix.first == ix.second && iy.first == iy.second && iz.first == iz.second)
-    return {P3(ix.first, iy.first, iz.first), 0};
+  if (Vec3 d; as_doubles(*x, d)) return {P3(d.x(), d.y(), d.z()), 0};
   return {*x, std::max(a.depth, b.depth) + 1};
 }
 
