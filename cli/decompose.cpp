@@ -94,6 +94,8 @@ void run_decompose(const DecomposeCommand& c, std::ostream& out) {
     j["method"] = c.method;
     j["pieces"] = d.pieces.size();
     if (c.merge) j["merged"] = d.merges;
+    // The pieces of a Boolean's exact result, not of its rounding (DecomposeOptions).
+    if (c.method == "planes") j["from_exact_solid"] = d.from_exact_solid;
     j["input_volume"] = nb.body.volume();
     j["pieces_volume"] = volume;
     j["all_convex"] = all_convex;

@@ -208,6 +208,36 @@ std::string drilled_plate(bool rotated) {
          (rotated ? std::string(", ") + kRotation : "") + "}";
 }
 
+// A Boolean whose corners are not doubles (a block less a slanted prism: its edges cross the
+// block's faces at 1/6 and 5/6 of their length), then turned by the body's transform: the
+// exact solid is turned exactly, its faces stay exactly planar, and the pieces are the exact
+// result's. A Boolean that rounds no corner (the drilled plate) is its body exactly.
+TEST(Cli, BooleanResultsDecomposeFromTheirExactSolid) {
+  const fs::path dir = temp_dir("exact_solid");
+  const std::string slanted =
+      R"({"name": "block", "box": {"min": [0, 0, 0], "max": [4, 4, 4]}, "hidden": true},)"
+      R"({"name": "prism", "polyhedron": {"vertices": [[1, 1, -1], [3, 1.25, -1], [1.75, 3, -1],)"
+      R"( [1.5, 1.25, 5], [3.5, 1.5, 5], [2.25, 3.25, 5]],)"
+      R"( "faces": [[0, 2, 1], [3, 4, 5], [0, 1, 4, 3], [1, 2, 5, 4], [2, 0, 3, 5]]}, "hidden": true},)"
+      R"({"name": "holed", "subtract": ["block", "prism"])";
+  for (bool rotated : {false, true}) {
+    SCOPED_TRACE(rotated ? "rotated" : "aligned");
+    const std::string body = slanted + (rotated ? std::string(", ") + kRotation : "") + "}";
+    Result r = run("decompose --json " + part_scene(dir, "holed", body).string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["name"], "holed");
+    EXPECT_EQ(j["from_exact_solid"], true);
+    EXPECT_EQ(j["all_convex"], true);
+    EXPECT_NEAR(j["pieces_volume"].get<double>(), j["input_volume"].get<double>(), 1e-9 * j["input_volume"].get<double>());
+    r = run("decompose --json " + part_scene(dir, "drilled", drilled_plate(rotated)).string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["from_exact_solid"], false);
+    EXPECT_EQ(j["all_convex"], true);
+  }
+}
+
 TEST(Cli, RotatedFloat32PartsRunThroughEveryCommand) {
   const fs::path dir = temp_dir("float32");
   std::ofstream(dir / "segments.txt") << "-5 -5 -5 5 5 5\n0 0 -5 0 0 5\n-5 0.1 0.3 5 0.2 0.4\n";

@@ -77,8 +77,13 @@ TEST(Decompose, PiecesCarryTheExactPlanesOfTheInput) {
     for (bool rotate : {false, true}) {
       const Body body = rotate ? suite::rotated(shape.body) : shape.body;
       const std::string name = shape.name + (rotate ? " (rotated)" : "");
-      const Decomposition d = decompose(body);
+      // The model of the rounded body, as hidden lines and shadows ask for it: the Booleans
+      // among the shapes (the cross) would otherwise be cut from their exact solids.
+      DecomposeOptions options;
+      options.from_exact_solid = false;
+      const Decomposition d = decompose(body, options);
       if (d.pieces.size() == 1) continue;  // convex input: the body itself, no model
+      EXPECT_FALSE(d.from_exact_solid) << name;
       ASSERT_EQ(d.piece_planes.size(), d.pieces.size()) << name;
       const InputPlanes& m = d.planes;
       ASSERT_EQ(m.face_planes.size(), static_cast<size_t>(body.face_count())) << name;
@@ -523,6 +528,60 @@ TEST(Decompose, ExactPiecesAreThePlanesOfTheExactPieces) {
   EXPECT_GT(with, 200);
   EXPECT_GT(through_cut_points, 5);  // faces whose plane has multiprecision coefficients
   std::printf("%d faces through cut points\n", through_cut_points);
+}
+
+// Regression: a Boolean's result was decomposed from its rounding. Where the result's exact
+// solid has exactly planar faces, the pieces are those of the exact solid: their exact volumes
+// sum to the exact result's, and every piece is exactly convex as planes.
+TEST(Decompose, BooleanResultsAreDecomposedFromTheirExactSolid) {
+  // A block less a slanted triangular prism through it: the prism's edges meet the block's top
+  // and bottom at 1/6 and 5/6 of their length, points that are not doubles.
+  const Vec3 d(0.5, 0.25, 6);
+  const std::vector<Vec3> base = {{1, 1, -1}, {3, 1.25, -1}, {1.75, 3, -1}};
+  std::vector<Vec3> corners = base;
+  for (const Vec3& p : base) corners.push_back(p + d);  // dyadic sums: exact
+  const Body prism_body(corners, {Face{0, 2, 1}, Face{3, 4, 5}, Face{0, 1, 4, 3}, Face{1, 2, 5, 4}, Face{2, 0, 3, 5}});
+  const Body block = box({0, 0, 0}, {4, 4, 4});
+  const std::optional<Body> holed = subtract(block, prism_body);
+  ASSERT_TRUE(holed && holed->has_exact_solid());
+  DecomposeOptions options;
+  options.verify = true;
+  options.exact_pieces = true;
+  const Decomposition exact = decompose(*holed, options);
+  EXPECT_TRUE(exact.from_exact_solid);
+  EXPECT_TRUE(exact.verified);  // pieces' exact volumes sum to the exact solid's
+  EXPECT_TRUE(exact.planes.empty() && exact.piece_planes.empty());
+  ASSERT_EQ(exact.exact_pieces.size(), exact.pieces.size());
+  for (size_t k = 0; k < exact.pieces.size(); ++k) {
+    EXPECT_GE(exact.exact_pieces[k].faces.size(), 4u) << "piece " << k;  // exactly convex
+    EXPECT_TRUE(is_convex(exact.pieces[k]) || exact.pieces[k].volume() < 1e-9) << "piece " << k;
+  }
+  expect_partition(*holed, exact.pieces, "block less a slanted prism");
+  EXPECT_NEAR(total_volume(exact.pieces), holed->volume(), 1e-12 * holed->volume());
+  // The rounded body, as before: the same number of pieces here, and the same volume.
+  options.from_exact_solid = false;
+  const Decomposition rounded = decompose(*holed, options);
+  EXPECT_FALSE(rounded.from_exact_solid);
+  EXPECT_FALSE(rounded.planes.empty());
+  EXPECT_EQ(rounded.pieces.size(), exact.pieces.size());
+  options.from_exact_solid = true;
+  // A Boolean that rounds no corner is its body exactly, and so is decomposed as any body.
+  const std::optional<Body> notched = subtract(block, box({1, 1, 3}, {3, 5, 5}));
+  ASSERT_TRUE(notched && notched->has_exact_solid());
+  EXPECT_FALSE(decompose(*notched, options).from_exact_solid);
+  // Operands rotated in double: the exact solid's faces fold by ulps, so the rounded body is
+  // decomposed with the rounding guard, as any rotated body.
+  const Transform t = Transform::rotation({1, 2, 3}, 37);
+  const std::optional<Body> turned = subtract(block.transformed(t), prism_body.transformed(t));
+  ASSERT_TRUE(turned && turned->has_exact_solid());
+  const Decomposition guarded = decompose(*turned, options);
+  EXPECT_FALSE(guarded.from_exact_solid);
+  EXPECT_EQ(guarded.pieces.size(), exact.pieces.size());
+  // The result moved exactly (an affine move of the exact solid) keeps planar faces.
+  const Decomposition moved = decompose(holed->transformed(t), options);
+  EXPECT_TRUE(moved.from_exact_solid);
+  EXPECT_TRUE(moved.verified);
+  EXPECT_EQ(moved.pieces.size(), exact.pieces.size());
 }
 
 TEST(DecomposeFloat32, RotatedPartsDecomposeExactlyAndRoundOnce) {

@@ -97,11 +97,14 @@ TEST(Boolean, ConvexIntersectionByPlaneSetsEqualsBoolean) {
 // Area of the regular n-gon of circumradius r that cylinder() inscribes.
 double ngon_area(int n, double r) { return 0.5 * n * r * r * std::sin(2 * std::numbers::pi / n); }
 
-// V(A − B) + V(A ∩ B) = V(A), to 1e-9 of V(A); both parts must be valid bodies.
+// V(A − B) + V(A ∩ B) = V(A): exactly for the exact solids the results keep, and to 1e-9 of
+// V(A) for the rounded bodies; both parts must be valid bodies.
 void expect_volumes_add_up(const Body& a, const Body& b) {
   std::optional<Body> minus = subtract(a, b);
   std::optional<Body> common = intersect(a, b);
   ASSERT_TRUE(minus && common);
+  EXPECT_TRUE(minus->has_exact_solid() && common->has_exact_solid());
+  EXPECT_EQ(exact_volume_sign({{1, *minus}, {1, *common}, {-1, a}}), Sign::Zero);
   EXPECT_NEAR(minus->volume() + common->volume(), a.volume(), 1e-9 * a.volume());
 }
 
@@ -128,6 +131,10 @@ TEST(Boolean, DrilledPlate) {
   EXPECT_EQ(drilled->classify({0, 0, 0.5}), Location::Outside);
   EXPECT_EQ(drilled->classify({1.5, 1.5, 0.5}), Location::Inside);
   expect_volumes_add_up(plate, drill);
+  // Exactly the box less the prism over the drill's polygon, one unit high: the part of the
+  // drill inside the plate is, exactly, the drill cut to the plate's height.
+  const Body plug = cylinder(0.5, 0, 1, 0.01);
+  EXPECT_EQ(exact_volume_sign({{1, *drilled}, {1, plug}, {-1, plate}}), Sign::Zero);
   // Touching: the drill ends on the plate's faces.
   std::optional<Body> flush = subtract(plate, cylinder(0.5, 0, 1, 0.01));
   ASSERT_TRUE(flush);
@@ -192,6 +199,42 @@ TEST(Boolean, NestedBooleans) {
   ASSERT_TRUE(again);
   EXPECT_NEAR(again->volume(), piece->volume() - ngon_area(segments_for_tolerance(0.2, 0.01), 0.2),
               1e-9 * piece->volume());
+  // Exactly: each step started from the exact solid of the one before, not its rounding.
+  const Body plug = cylinder(0.2, 0, 1, 0.01).translated({-1, -1, 0});
+  EXPECT_EQ(exact_volume_sign({{1, *again}, {1, plug}, {-1, *piece}}), Sign::Zero);
+}
+
+// Regression: a Boolean's result was rounded to double before the next Boolean, an affine
+// move or a volume saw it, so a chain of Booleans met volume identities only within rounding.
+// The result keeps its exact solid.
+TEST(Boolean, ResultsKeepTheirExactSolid) {
+  const Body plate = box({-2, -2, 0}, {2, 2, 1}).transformed(Transform::rotation(Vec3(1, 2, 3), 37));
+  const Body drill = cylinder(0.5, -1, 2, 0.01).transformed(Transform::rotation(Vec3(1, 2, 3), 37));
+  std::optional<Body> drilled = subtract(plate, drill);
+  ASSERT_TRUE(drilled && drilled->has_exact_solid());
+  EXPECT_FALSE(plate.has_exact_solid());
+  // Rounded: the volume differs from the exact one, so the identity fails on the rounding of
+  // the drilled plate (what a Boolean without its exact solid would have given).
+  const Body rounded(drilled->vertices(), drilled->faces());
+  EXPECT_FALSE(rounded.has_exact_solid());
+  std::optional<Body> common = intersect(plate, drill);
+  ASSERT_TRUE(common);
+  EXPECT_EQ(exact_volume_sign({{1, *drilled}, {1, *common}, {-1, plate}}), Sign::Zero);
+  EXPECT_NE(exact_volume_sign({{1, rounded}, {1, *common}, {-1, plate}}), Sign::Zero);
+  // Moved by an affine map, it keeps an exact solid, moved exactly: the moved solid's
+  // identities hold with the moved operands' results too.
+  const Transform t = Transform::rotation(Vec3(-2, 1, 5), 23, Vec3(0.3, 0.1, 0.7));
+  const Body moved = drilled->transformed(t);
+  EXPECT_TRUE(moved.has_exact_solid());
+  const Body cutter = box({-1, -3, -3}, {3, 3, 3}).rotated_z(11);
+  expect_volumes_add_up(moved, cutter);
+  // A reflection keeps the solid's orientation outward: its volume stays positive.
+  const Body mirrored = drilled->scaled(Vec3(-1, 1, 1));
+  EXPECT_TRUE(mirrored.has_exact_solid());
+  EXPECT_EQ(exact_volume_sign({{1, mirrored}}), Sign::Positive);
+  expect_volumes_add_up(mirrored, cutter);
+  // A perspective map is not exact on rationals here: the body comes back without a solid.
+  EXPECT_FALSE(drilled->translated({0, 0, -5}).transformed(Transform::perspective(10)).has_exact_solid());
 }
 
 TEST(Boolean, RandomRotationsOfCurvedOperands) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <tuple>
 
+#include "core/exact_solid.h"
 #include "hedra/core/error.h"
 #include "hedra/core/face_geometry.h"
 #include "hedra/core/parallel.h"
@@ -35,6 +36,8 @@ struct Body::Impl {
   double area = 0;
   Vec3 centroid = Vec3::Zero();
   bool two_sided = false;
+  // The exact solid this body rounds (Body::exact_solid()), or null.
+  std::shared_ptr<const internal::ExactSolid> exact;
   // is_convex()'s verdict, decided on first use (−1: not yet).
   mutable std::atomic<int> convexity{-1};
 };
@@ -558,10 +561,22 @@ Body Body::transformed(const Transform& t) const {
     const double tolerance = kRoundingPlanarity * body_scale(polygon, box);
     return two_sided_polygon(std::move(polygon), tolerance);
   }
-  return Body(std::move(moved), std::move(faces));
+  Body out(std::move(moved), std::move(faces));
+  // The exact solid moves with it, exactly, where the map is affine.
+  if (impl_->exact && t.is_affine()) internal::attach_exact_solid(out, internal::transformed(*impl_->exact, t));
+  return out;
 }
 
 bool Body::two_sided() const { return impl_->two_sided; }
+
+const std::shared_ptr<const internal::ExactSolid>& Body::exact_solid() const { return impl_->exact; }
+
+namespace internal {
+void attach_exact_solid(Body& body, std::shared_ptr<const ExactSolid> solid) {
+  HEDRA_ASSERT(body.impl_.use_count() == 1, "attach_exact_solid: the body is shared");
+  const_cast<Body::Impl&>(*body.impl_).exact = std::move(solid);
+}
+}  // namespace internal
 
 int Body::convexity_memo() const { return impl_->convexity.load(std::memory_order_relaxed); }
 

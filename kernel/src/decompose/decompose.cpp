@@ -728,8 +728,14 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
       if (fresh) {
         const auto& sp = model.support[static_cast<size_t>(tri.plane)];
         // Sign +1: the piece lies on the plane's negative side, which is through()'s positive.
-        const ExactPlane f = ExactPlane::through(sp[0], sp[1], sp[2]);
-        out.faces.push_back(tri.sign > 0 ? f : f.flipped());
+        // A plane through no three input vertices (the faces of an exact solid) from its
+        // exact coefficients, negated where the piece lies on its negative side.
+        if (sp[0] == sp[1]) {
+          out.faces.push_back(plane_of_lazy(ctx.planes[static_cast<size_t>(tri.plane)], tri.sign > 0));
+        } else {
+          const ExactPlane f = ExactPlane::through(sp[0], sp[1], sp[2]);
+          out.faces.push_back(tri.sign > 0 ? f : f.flipped());
+        }
         refs.push_back({tri.plane, tri.sign, -1, 0, {}, CGAL::COPLANAR});
         // The inner point strictly inside (Sign +1: on the plane's negative side).
         const CGAL::Oriented_side o = ctx.planes[static_cast<size_t>(tri.plane)].oriented_side(*inside);
@@ -861,15 +867,20 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
   return out;
 }
 
-Decomposition run(const Body& body, const DecomposeOptions& options, Context& ctx) {
-  if (!options.verify && is_convex(body)) {
+// `solid`: the exact piece of the body's exact solid (piece_of(const ExactSolid&, …)), to
+// decompose instead of the rounded body; the model of the rounded body (Decomposition::planes,
+// piece_planes) is then not made, since it refers to the rounded body's vertices and faces.
+Decomposition run(const Body& body, const DecomposeOptions& options, Context& ctx,
+                  std::optional<Piece> solid = std::nullopt) {
+  const bool from_solid = solid.has_value();
+  if (!from_solid && !options.verify && is_convex(body)) {
     // Convex input returns at once: O(V + E) (mesh/convexity.h), before the exact pieces.
     Decomposition out;
     out.pieces.push_back(body);
     out.exact_volume = body.volume();
     return out;
   }
-  Piece whole = piece_of(body, ctx);
+  Piece whole = from_solid ? std::move(*solid) : piece_of(body, ctx);
   std::vector<Piece> open = components(whole.pts, whole.tris);
   std::vector<Piece> done;
   Decomposition out;
@@ -958,7 +969,7 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     if (ctx.floating) {
       out.pieces.push_back(body_of(p));
     } else if (std::optional<Body> b = rounded_piece(p)) {
-      out.piece_planes.push_back(face_planes(p));
+      if (!from_solid) out.piece_planes.push_back(face_planes(p));
       out.pieces.push_back(std::move(*b));
       kept.push_back(&p);
     } else {
@@ -981,13 +992,15 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     }
     m.approx = ctx.approx;
     m.guard = ctx.guard;
-    for (const Point& pt : whole.pts) m.vertex_planes.push_back(pt.on);
-    m.face_planes.resize(static_cast<size_t>(body.face_count()));
-    const auto& triangles = body.triangles();
-    for (size_t t = 0; t < triangles.size(); ++t) {
-      auto& fp = m.face_planes[static_cast<size_t>(triangles[t].face)];
-      const std::pair<int, int> c(whole.tris[t].plane, whole.tris[t].sign);
-      if (!std::binary_search(fp.begin(), fp.end(), c)) fp.insert(std::upper_bound(fp.begin(), fp.end(), c), c);
+    if (!from_solid) {
+      for (const Point& pt : whole.pts) m.vertex_planes.push_back(pt.on);
+      m.face_planes.resize(static_cast<size_t>(body.face_count()));
+      const auto& triangles = body.triangles();
+      for (size_t t = 0; t < triangles.size(); ++t) {
+        auto& fp = m.face_planes[static_cast<size_t>(triangles[t].face)];
+        const std::pair<int, int> c(whole.tris[t].plane, whole.tris[t].sign);
+        if (!std::binary_search(fp.begin(), fp.end(), c)) fp.insert(std::upper_bound(fp.begin(), fp.end(), c), c);
+      }
     }
     // The exact pieces as planes, in parallel (independent pieces; exact arithmetic only). A
     // piece that is not exactly convex (an ulp fold of the guarded run) gets none: its
@@ -997,6 +1010,7 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
       for (size_t i = lo; i != hi; ++i)
         if (std::optional<ExactConvex> e = exact_convex(ctx, m, *kept[i])) out.exact_pieces[i] = std::move(*e);
     });
+    if (from_solid) out.planes = InputPlanes{};  // its planes pass through no input vertex
   }
   return out;
 }
@@ -1036,6 +1050,31 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
   // inputs with many reflex edges near-linear). Where that run fails (so far only on
   // self-touching slivers of rotated float32 soups), the two runs without it follow, so the
   // outcome is never worse than without simplification.
+  // A Boolean's result keeps the exact solid it rounds: where that solid's faces are exactly
+  // planar, it is what is decomposed (exact planes, nothing rounded before the pieces). Its
+  // faces fold by ulps where the operands were rotated in double; then the rounded body, as
+  // any other.
+  // A convex body comes back as it is (run()), not as its solid's rounded piece. Where the
+  // Boolean rounded no corner (ExactSolid::rounded), its body is the solid exactly, and a move
+  // of it a moved double body like any other (the rounding guard below): only what the Boolean
+  // rounded needs the solid, and lazy exact corners everywhere cost 3–4× the guarded run on a
+  // rotated body's doubles.
+  if (const auto& exact_solid = body.exact_solid();
+      exact_solid && exact_solid->rounded && options.from_exact_solid && !is_convex(body)) {
+    for (bool simplified : {true, false}) {
+      try {
+        Context ctx;
+        ctx.exact_planes = true;
+        ctx.simplify = simplified;
+        std::optional<Piece> whole = piece_of(*exact_solid, body.scale(), ctx);
+        if (!whole) break;
+        Decomposition out = run(body, options, ctx, std::move(whole));
+        out.from_exact_solid = true;
+        if (!options.verify || out.verified) return out;
+      } catch (const InternalError&) {
+      }
+    }
+  }
   for (bool simplified : {true, false}) {
     try {
       Context ctx;

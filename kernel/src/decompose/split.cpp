@@ -196,6 +196,69 @@ Piece exact_piece_of(const Body& body, Context& ctx) {
 
 }  // namespace
 
+std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ctx) {
+  Piece piece;
+  piece.pts.resize(solid.points.size());
+  std::vector<Vec3> r(solid.points.size());  // rounded, for the normal index only
+  for (size_t i = 0; i < solid.points.size(); ++i) {
+    Point& pt = piece.pts[i];
+    pt.p = solid.points[i];
+    pt.depth = as_doubles(pt.p, r[i]) ? 0 : 1;
+    if (pt.depth) r[i] = rounded(pt.p);
+  }
+  std::map<int, std::vector<size_t>> by_face;  // face → its triangles, in order
+  for (size_t t = 0; t < solid.triangles.size(); ++t) by_face[solid.triangles[t].face].push_back(t);
+  const double radius = kRoundingPlanarity * scale;
+  for (const auto& [face, tris] : by_face) {
+    // The face's plane: through the corners of its first triangle that spans one.
+    const ExactSolid::Tri* span = nullptr;
+    for (size_t t : tris) {
+      const auto& v = solid.triangles[t].v;
+      if (!CGAL::collinear(solid.points[v[0]], solid.points[v[1]], solid.points[v[2]])) {
+        span = &solid.triangles[t];
+        break;
+      }
+    }
+    if (!span) return std::nullopt;
+    const P3 &a = solid.points[span->v[0]], &b = solid.points[span->v[1]], &c = solid.points[span->v[2]];
+    const PL plane(a, b, c);  // oriented outwards: the triangle runs counter-clockwise outside
+    for (size_t t : tris)
+      for (int w : solid.triangles[t].v)
+        if (plane.oriented_side(solid.points[w]) != CGAL::ON_ORIENTED_BOUNDARY) return std::nullopt;
+    const Vec3 &ra = r[span->v[0]], &rb = r[span->v[1]], &rc = r[span->v[2]];
+    const Vec3 n = (rb - ra).cross(rc - ra);
+    const double longest = std::max({(rb - ra).norm(), (rc - rb).norm(), (ra - rc).norm()});
+    const double height = n.norm() / longest;
+    int group = -1, sign = 1;
+    for (int g : planes_near(ctx, n.normalized(), 8 * radius / height + 1e-9)) {
+      const PL& other = ctx.planes[static_cast<size_t>(g)];
+      if (other.oriented_side(a) == CGAL::ON_ORIENTED_BOUNDARY && other.oriented_side(b) == CGAL::ON_ORIENTED_BOUNDARY &&
+          other.oriented_side(c) == CGAL::ON_ORIENTED_BOUNDARY) {
+        group = g;
+        sign = CGAL::is_positive(plane.orthogonal_vector() * other.orthogonal_vector()) ? 1 : -1;
+        break;
+      }
+    }
+    if (group < 0) {
+      group = static_cast<int>(ctx.planes.size());
+      ctx.planes.push_back(plane);
+      ctx.approx.push_back(Plane::through(ra, n.normalized()));
+      // Three corners with double coordinates support the plane as an input face's do (sides
+      // of double points by orient3d, side()); else none, and sides are the lazy plane's.
+      if (!piece.pts[span->v[0]].depth && !piece.pts[span->v[1]].depth && !piece.pts[span->v[2]].depth)
+        ctx.support.push_back({ra, rb, rc});
+      else
+        ctx.support.push_back({Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+    }
+    for (size_t t : tris) {
+      const auto& v = solid.triangles[t].v;
+      for (int w : v) add_on(piece.pts[static_cast<size_t>(w)], group);
+      piece.tris.push_back({v, group, sign});
+    }
+  }
+  return piece;
+}
+
 // Groups the body's faces into canonical planes (coincident within the rounding guard) and
 // builds the exact piece of the whole body.
 Piece piece_of(const Body& body, Context& ctx) {

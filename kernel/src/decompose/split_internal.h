@@ -8,9 +8,11 @@
 #include <cstdint>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
+#include "core/exact_solid.h"
 #include "hedra/core/body.h"
 
 namespace hedra::internal {
@@ -119,6 +121,14 @@ void add_on_sorted(std::vector<int>& ids, int id);
 // Groups the body's faces into canonical planes and builds the exact piece of the whole body.
 // Cost O(V + F log F).
 Piece piece_of(const Body& body, Context& ctx);
+// The exact piece of an exact solid (a Boolean's result, Body::exact_solid()) for a run with
+// Context::exact_planes: its exact corners are the points (made, not input vertices: origin
+// −1), each face one canonical plane through three of its corners, shared by faces exactly on
+// it (either orientation). nullopt when a face is not exactly planar (operands rotated in
+// double: the solid inherits their faces' ulp folds); the caller then decomposes the rounded
+// body with the rounding guard instead. `scale`: the body's, for the normal index.
+// Cost O(T) exact orientation tests.
+std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ctx);
 // The connected components of a triangle soup, as pieces. Cost O(T).
 std::vector<Piece> components(const std::vector<Point>& pts, const std::vector<Tri>& tris);
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 
+#include "core/exact_solid.h"
 #include "hedra/core/error.h"
 #include "mesh/union_find.h"
 
@@ -24,9 +25,21 @@ namespace PMP = CGAL::Polygon_mesh_processing;
 // the input face it lies in (operand A's faces first, then B's).
 constexpr const char* kOrigin = "f:hedra_origin";
 
+// The body's exact solid where it keeps one (a Boolean's result: the next Boolean starts from
+// the exact corners, not their rounding), else its triangles with their double corners.
 Mesh to_mesh(const Body& body, int first_face) {
   Mesh mesh;
   std::vector<Mesh::Vertex_index> ids;
+  if (const auto& solid = body.exact_solid(); solid) {
+    ids.reserve(solid->points.size());
+    for (const EK::Point_3& p : solid->points) ids.push_back(mesh.add_vertex(p));
+    auto origin = mesh.add_property_map<FaceIndex, int>(kOrigin, -1).first;
+    for (const internal::ExactSolid::Tri& t : solid->triangles) {
+      FaceIndex f = mesh.add_face(ids[t.v[0]], ids[t.v[1]], ids[t.v[2]]);
+      origin[f] = first_face + t.face;
+    }
+    return mesh;
+  }
   ids.reserve(body.vertices().size());
   for (const Vec3& p : body.vertices()) ids.push_back(mesh.add_vertex(EK::Point_3(p.x(), p.y(), p.z())));
   auto origin = mesh.add_property_map<FaceIndex, int>(kOrigin, -1).first;
@@ -129,6 +142,7 @@ std::optional<Body> to_body(const Mesh& mesh) {
   }
   std::vector<Face> out_faces;
   std::vector<int> face_region;  // region of each output face
+  std::vector<int> face_of(n, -1);  // output face of each triangle
   for (int r : order) {
     std::unordered_map<int, int> next;
     std::vector<std::pair<int, int>> boundary;
@@ -186,10 +200,12 @@ std::optional<Body> to_body(const Mesh& mesh) {
         std::vector<int> tri;
         for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(faces[i]), mesh))
           tri.push_back(vid(v));
+        face_of[i] = static_cast<int>(out_faces.size());
         out_faces.emplace_back(std::move(tri));
         face_region.push_back(r);
       }
     } else {
+      for (int i : members[r]) face_of[i] = static_cast<int>(out_faces.size());
       out_faces.emplace_back(std::move(loops));
       face_region.push_back(r);
     }
@@ -240,7 +256,35 @@ std::optional<Body> to_body(const Mesh& mesh) {
   for (Face& face : out_faces)
     for (auto& loop : face.loops)
       for (int& w : loop) w = remap[w];
-  return Body(std::move(vertices), std::move(out_faces));
+  Body body(std::move(vertices), std::move(out_faces));
+  // The exact mesh stays with its rounding: every vertex (those only splitting an edge too),
+  // each triangle with the face it rounds into.
+  auto solid = std::make_shared<internal::ExactSolid>();
+  solid->points.reserve(nv);
+  // A corner whose exact coordinates are doubles is stored as those doubles: a constructed
+  // point's interval need not be a point even then, and later tests take the fast path on
+  // points with double coordinates (decompose, `side()`).
+  solid->rounded = false;
+  for (size_t w = 0; w < nv; ++w) {
+    const EK::Point_3& p = mesh.point(vertex_of[w]);
+    const auto& e = CGAL::exact(p);
+    const double x = CGAL::to_double(e.x()), y = CGAL::to_double(e.y()), z = CGAL::to_double(e.z());
+    if (e.x() == x && e.y() == y && e.z() == z) {
+      solid->points.emplace_back(x, y, z);
+    } else {
+      solid->points.push_back(p);
+      if (remap[w] >= 0) solid->rounded = true;  // a corner of the body, rounded
+    }
+  }
+  solid->triangles.reserve(faces.size());
+  for (int i = 0; i < n; ++i) {
+    internal::ExactSolid::Tri t{{}, face_of[i]};
+    int k = 0;
+    for (Mesh::Vertex_index v : CGAL::vertices_around_face(mesh.halfedge(faces[i]), mesh)) t.v[k++] = vid(v);
+    solid->triangles.push_back(t);
+  }
+  internal::attach_exact_solid(body, std::move(solid));
+  return body;
 }
 
 enum class Op { Union, Difference, Intersection };
@@ -273,6 +317,12 @@ std::optional<Body> subtract(const Body& a, const Body& b) {
 
 std::optional<Body> intersect(const Body& a, const Body& b) {
   return boolean(a, b, Op::Intersection, "intersect");
+}
+
+Sign exact_volume_sign(const std::vector<std::pair<int, Body>>& terms) {
+  EK::FT::ET sum = 0;
+  for (const auto& [k, body] : terms) sum += EK::FT::ET(k) * internal::six_volume(body);
+  return static_cast<Sign>(CGAL::sign(sum));
 }
 
 std::optional<Body> intersect_convex(const Body& a, const Body& b) {

@@ -243,6 +243,7 @@ void Roberts::prepare_bodies() {
       try {
         DecomposeOptions decompose_options;
         decompose_options.exact_pieces = true;
+        decompose_options.from_exact_solid = false;  // incidence is decided on the rounded body
         if (meter_.active())
           decompose_options.progress = [this](int, int) {
             meter_.add(0);  // reports on the caller's thread, throws once cancelled

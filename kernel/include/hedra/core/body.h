@@ -15,6 +15,12 @@
 
 namespace hedra {
 
+class Body;
+namespace internal {
+struct ExactSolid;  // core/exact_solid.h (private)
+void attach_exact_solid(Body& body, std::shared_ptr<const ExactSolid> solid);
+}  // namespace internal
+
 /// A planar face: loops[0] is the outer boundary, running counter-clockwise seen from
 /// outside the body (so the right-hand normal points outwards); loops[1..] are holes, running
 /// the other way. Faces with holes are supported directly (the cap of a plate with holes is
@@ -151,6 +157,15 @@ class Body {
                                 double planarity_tolerance = 0);
   /// True for two_sided_polygon() and two_sided_surface() bodies.
   bool two_sided() const;
+
+  /// Whether this body is the rounding of an exact solid it keeps: a Boolean's result
+  /// (hedra/mesh/boolean.h), and such a body moved by an affine transformed(). Booleans on it
+  /// start from the exact solid, and exact_volume_sign() measures it; its vertices are the
+  /// exact corners rounded once (within half an ulp per coordinate). Other transformations
+  /// (perspective) and every other way of making a body give a body without one.
+  bool has_exact_solid() const { return exact_solid() != nullptr; }
+  /// The exact solid itself, for hedra's own layers (its type is private); null if none.
+  const std::shared_ptr<const internal::ExactSolid>& exact_solid() const;
   /// A two-sided body's face on the other side of face f: f ± face_count() / 2.
   int twin_face(int f) const;
 
@@ -161,6 +176,7 @@ class Body {
   friend bool is_convex(const Body& body);
   int convexity_memo() const;
   void set_convexity_memo(bool convex) const;
+  friend void internal::attach_exact_solid(Body& body, std::shared_ptr<const internal::ExactSolid> solid);
 
   struct Impl;
   explicit Body(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}

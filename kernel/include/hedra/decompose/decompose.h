@@ -32,6 +32,14 @@ struct DecomposeOptions {
   /// clip against the pieces (hidden lines, shadows, clipping). Costs a few exact tests per
   /// triangle of each piece.
   bool exact_pieces = false;
+  /// Decompose the exact solid a Boolean's result keeps (Body::exact_solid()) rather than its
+  /// rounding, where the Boolean rounded a corner of its body and the solid's faces are exactly
+  /// planar (Decomposition::from_exact_solid; else the body, as any other).
+  /// Its pieces and exact_pieces are then those of the exact result; `planes` and
+  /// `piece_planes`, which refer to the rounded body's vertices and faces, stay empty. Hidden
+  /// lines and shadows, which decide incidence with the rounded body's edges through them,
+  /// turn it off.
+  bool from_exact_solid = true;
 };
 
 /// The exact planes the decomposition cut and bounded its pieces with, for consumers that must
@@ -104,6 +112,8 @@ struct Decomposition {
   /// and CGAL's slivers whose corners coincide after rounding (decompose_cgal). Not in
   /// `pieces`.
   int degenerate_pieces = 0;
+  /// The pieces are those of the body's exact solid (DecomposeOptions::from_exact_solid).
+  bool from_exact_solid = false;
 };
 
 /// Joins adjacent convex bodies whose union is convex, greedily, until no pair is left: the

@@ -1,0 +1,49 @@
+// Internal: the exact solid a rounded body stands for (docs/design.md, "Exact inside, rounded
+// only at the edge"). A Boolean's result is an exact triangle mesh with rational corners
+// (CGAL's corefinement on Epeck); the Body its caller gets has those corners rounded to
+// double, once. The body keeps the exact mesh (Body::exact_solid()), so that what is built on
+// it next — another Boolean, an affine move, an exact volume — starts from the exact solid,
+// not from its rounding.
+#pragma once
+
+#include <CGAL/Exact_predicates_exact_constructions_kernel.h>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "hedra/core/body.h"
+
+namespace hedra::internal {
+
+using ExactKernel = CGAL::Exact_predicates_exact_constructions_kernel;
+
+/// A closed, consistently oriented triangle mesh with exact corners. Immutable once attached.
+struct ExactSolid {
+  struct Tri {
+    std::array<int, 3> v;  // counter-clockwise seen from outside
+    int face;              // the body's face this triangle rounds into
+  };
+  std::vector<ExactKernel::Point_3> points;
+  std::vector<Tri> triangles;
+  /// Whether the Boolean that made this solid rounded a corner of its body (a corner here that
+  /// is not a double). Else the Boolean's body has this solid's corners exactly (the points only
+  /// the solid keeps lie on straight edges between its faces), and an affine move of it is a
+  /// moved double body like any other. Kept through affine moves.
+  bool rounded = true;
+};
+
+/// Attaches `solid` to a body made from it (its rounding) and not yet shared with anyone.
+/// \pre body's geometry is not shared (a freshly built body).
+void attach_exact_solid(Body& body, std::shared_ptr<const ExactSolid> solid);
+
+/// The exact image of `solid` under the affine map `t` (row-vector convention, as
+/// Transform): every corner mapped in exact arithmetic; loops reversed for reflections.
+/// \pre t.is_affine(). Cost O(n) lazy exact operations.
+std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Transform& t);
+
+/// Six times the exact volume: of the body's exact solid where it carries one, else of its
+/// triangles with their double corners. Cost O(T) exact operations.
+ExactKernel::FT::ET six_volume(const Body& body);
+
+}  // namespace hedra::internal
