@@ -118,6 +118,15 @@ TEST(Differential, BooleansKeepTheVolumeIdentities) {
     EXPECT_NEAR(vd + vi, a.volume(), 1e-12 * scale);
     EXPECT_NEAR(both.volume() + vi, a.volume() + b.volume(), 1e-12 * scale);
     EXPECT_GE(vi, 0);
+    // Exactly, on the exact solids the results keep (the rounded bodies only within rounding).
+    std::vector<std::pair<int, Body>> first = {{-1, a}}, second = {{1, both}, {-1, a}, {-1, b}};
+    if (difference) first.emplace_back(1, *difference);
+    if (common) {
+      first.emplace_back(1, *common);
+      second.emplace_back(1, *common);
+    }
+    EXPECT_EQ(exact_volume_sign(first), Sign::Zero);
+    EXPECT_EQ(exact_volume_sign(second), Sign::Zero);
   });
 }
 
