@@ -32,6 +32,7 @@ from ._hedra import (  # noqa: F401
     decompose,
     demo_scene,
     encode_png,
+    exact_volume_sign,
     hidden_lines,
     intersect,
     prism,

@@ -299,6 +299,9 @@ void bind_body(py::module_& m) {
           "Body from a triangle mesh: coplanar neighbours merged into polygonal faces.")
       .def_property_readonly("volume", [](const PyBody& b) { return b.body.volume(); })
       .def_property_readonly("area", [](const PyBody& b) { return b.body.area(); })
+      .def_property_readonly("has_exact_solid", [](const PyBody& b) { return b.body.has_exact_solid(); },
+                             "True for a Boolean's result (and its affine moves): it keeps the exact "
+                             "solid its vertices round.")
       .def_property_readonly("is_convex", [](const PyBody& b) { return is_convex(b.body); },
                              "Exact convexity test.")
       .def_property_readonly("nonconvex_faces",
@@ -463,6 +466,17 @@ void bind_body(py::module_& m) {
         },
         py::arg("a"), py::arg("b"), py::call_guard<py::gil_scoped_release>());
 
+  m.def(
+      "exact_volume_sign",
+      [](const std::vector<std::pair<int, PyBody>>& terms) {
+        std::vector<std::pair<int, Body>> t;
+        for (const auto& [k, b] : terms) t.emplace_back(k, b.body);
+        py::gil_scoped_release release;
+        return static_cast<int>(exact_volume_sign(t));
+      },
+      py::arg("terms"),
+      "Sign (-1, 0, 1) of the sum of k * volume over [(k, body), ...], exactly: a Boolean's "
+      "result counts with its exact solid. V(A - B) + V(A & B) - V(A) gives 0.");
   m.def("decompose", &decompose_body, py::arg("body"), py::arg("method") = "planes",
         py::arg("tolerance") = py::none(), py::arg("merge") = false, py::arg("threads") = 0,
         py::arg("progress") = py::none(),

@@ -116,6 +116,20 @@ def test_booleans_against_inclusion_exclusion():
     assert hedra.intersect(a, hedra.box((5, 5, 5), (6, 6, 6))) is None
 
 
+def test_boolean_results_keep_their_exact_solid():
+    # Rotated operands: the results' rounded volumes add up only within rounding, their exact
+    # solids exactly.
+    plate = hedra.box((-2, -2, 0), (2, 2, 1)).rotated((1, 2, 3), 37)
+    drill = hedra.cylinder(0.5, z=(-1, 2), tolerance=0.01).rotated((1, 2, 3), 37)
+    drilled, plug = hedra.subtract(plate, drill), hedra.intersect(plate, drill)
+    assert drilled.has_exact_solid and plug.has_exact_solid and not plate.has_exact_solid
+    assert hedra.exact_volume_sign([(1, drilled), (1, plug), (-1, plate)]) == 0
+    assert hedra.exact_volume_sign([(1, drilled)]) == 1
+    rounded = hedra.Body(drilled.vertices, drilled.faces)
+    assert not rounded.has_exact_solid
+    assert hedra.exact_volume_sign([(1, rounded), (1, plug), (-1, plate)]) != 0
+
+
 def test_invalid_bodies_raise_invalid_input():
     with pytest.raises(hedra.InvalidInput, match=r"^face 3 refers to vertex 7, out of range \(the body has 4 vertices\)$"):
         hedra.Body([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 7]])
