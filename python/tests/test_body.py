@@ -118,11 +118,16 @@ def test_booleans_against_inclusion_exclusion():
 
 def test_boolean_results_keep_their_exact_solid():
     # Rotated operands: the results' rounded volumes add up only within rounding, their exact
-    # solids exactly.
+    # solids (and the operands' exact images) exactly.
     plate = hedra.box((-2, -2, 0), (2, 2, 1)).rotated((1, 2, 3), 37)
     drill = hedra.cylinder(0.5, z=(-1, 2), tolerance=0.01).rotated((1, 2, 3), 37)
     drilled, plug = hedra.subtract(plate, drill), hedra.intersect(plate, drill)
-    assert drilled.has_exact_solid and plug.has_exact_solid and not plate.has_exact_solid
+    assert drilled.has_exact_solid and plug.has_exact_solid
+    # A moved box is the exact image of its corners; a box in place, and a moved sphere (its
+    # quadrilaterals planar only within rounding), keep no exact solid.
+    assert plate.has_exact_solid
+    assert not hedra.box((0, 0, 0), (1, 1, 1)).has_exact_solid
+    assert not hedra.sphere((0, 0, 0), 1).rotated((1, 2, 3), 37).has_exact_solid
     assert hedra.exact_volume_sign([(1, drilled), (1, plug), (-1, plate)]) == 0
     assert hedra.exact_volume_sign([(1, drilled)]) == 1
     rounded = hedra.Body(drilled.vertices, drilled.faces)

@@ -562,8 +562,14 @@ Body Body::transformed(const Transform& t) const {
     return two_sided_polygon(std::move(polygon), tolerance);
   }
   Body out(std::move(moved), std::move(faces));
-  // The exact solid moves with it, exactly, where the map is affine.
-  if (impl_->exact && t.is_affine()) internal::attach_exact_solid(out, internal::transformed(*impl_->exact, t));
+  // The exact solid moves with it, exactly, where the map is affine; a body without one whose
+  // faces are exactly planar gets its exact image, pending (made when a Boolean needs it).
+  if (t.is_affine()) {
+    if (impl_->exact)
+      internal::attach_exact_solid(out, internal::transformed(*impl_->exact, t));
+    else if (std::shared_ptr<const internal::ExactSolid> image = internal::moved_exactly(*this, t))
+      internal::attach_exact_solid(out, std::move(image));
+  }
   return out;
 }
 

@@ -10,6 +10,8 @@
 
 #include <array>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <vector>
 
 #include "hedra/core/body.h"
@@ -19,6 +21,10 @@ namespace hedra::internal {
 using ExactKernel = CGAL::Exact_predicates_exact_constructions_kernel;
 
 /// A closed, consistently oriented triangle mesh with exact corners. Immutable once attached.
+/// Either made (points, triangles), or pending: the exact image of a double body's corners
+/// under a chain of affine maps (a body with exactly planar faces moved by transformed()),
+/// made on first use by materialized(), so that moving a large mesh costs nothing until a
+/// Boolean needs its exact corners.
 struct ExactSolid {
   struct Tri {
     std::array<int, 3> v;  // counter-clockwise seen from outside
@@ -26,6 +32,18 @@ struct ExactSolid {
   };
   std::vector<ExactKernel::Point_3> points;
   std::vector<Tri> triangles;
+  struct Pending {
+    // The double corners and triangles of the body first moved (exactly planar faces, no
+    // solid of its own), shared by every later move; not the body, whose derived data
+    // (edges, planes, matrix) would stay alive with its moved copies.
+    std::shared_ptr<const std::vector<Vec3>> corners;
+    std::shared_ptr<const std::vector<Tri>> triangles;
+    std::vector<Mat4> maps;  // applied in order (row-vector convention)
+    bool reflected = false;  // an odd number of the maps reverse orientation
+  };
+  std::optional<Pending> pending;
+  mutable std::once_flag once;
+  mutable std::shared_ptr<const ExactSolid> made;  // the pending image, once materialized
   /// Whether the Boolean that made this solid rounded a corner of its body (a corner here that
   /// is not a double). Else the Boolean's body has this solid's corners exactly (the points only
   /// the solid keeps lie on straight edges between its faces), and an affine move of it is a
@@ -33,14 +51,25 @@ struct ExactSolid {
   bool rounded = true;
 };
 
+/// The solid with its corners: `solid` itself, or its pending image, made once (thread-safe).
+/// Cost O(n) lazy exact operations the first time.
+const ExactSolid& materialized(const ExactSolid& solid);
+
 /// Attaches `solid` to a body made from it (its rounding) and not yet shared with anyone.
 /// \pre body's geometry is not shared (a freshly built body).
 void attach_exact_solid(Body& body, std::shared_ptr<const ExactSolid> solid);
 
 /// The exact image of `solid` under the affine map `t` (row-vector convention, as
 /// Transform): every corner mapped in exact arithmetic; loops reversed for reflections.
-/// \pre t.is_affine(). Cost O(n) lazy exact operations.
+/// A pending solid stays pending, with `t` appended. \pre t.is_affine(). Cost O(n) lazy exact
+/// operations for a made solid, O(maps) for a pending one.
 std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Transform& t);
+
+/// The pending exact image of `body` (double corners, no solid) under `t`, or null where a
+/// face is not exactly planar (its exact image would not be planar either: a tessellated
+/// sphere's quadrilaterals). \pre t.is_affine(). Cost O(corners of the faces that are not
+/// triangles) exact orientation tests.
+std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transform& t);
 
 /// Six times the exact volume: of the body's exact solid where it carries one, else of its
 /// triangles with their double corners. Cost O(T) exact operations.

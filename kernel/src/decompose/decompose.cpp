@@ -1066,7 +1066,7 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
         Context ctx;
         ctx.exact_planes = true;
         ctx.simplify = simplified;
-        std::optional<Piece> whole = piece_of(*exact_solid, body.scale(), ctx);
+        std::optional<Piece> whole = piece_of(materialized(*exact_solid), body.scale(), ctx);
         if (!whole) break;
         Decomposition out = run(body, options, ctx, std::move(whole));
         out.from_exact_solid = true;

@@ -30,11 +30,12 @@ constexpr const char* kOrigin = "f:hedra_origin";
 Mesh to_mesh(const Body& body, int first_face) {
   Mesh mesh;
   std::vector<Mesh::Vertex_index> ids;
-  if (const auto& solid = body.exact_solid(); solid) {
-    ids.reserve(solid->points.size());
-    for (const EK::Point_3& p : solid->points) ids.push_back(mesh.add_vertex(p));
+  if (body.exact_solid()) {
+    const internal::ExactSolid& solid = internal::materialized(*body.exact_solid());
+    ids.reserve(solid.points.size());
+    for (const EK::Point_3& p : solid.points) ids.push_back(mesh.add_vertex(p));
     auto origin = mesh.add_property_map<FaceIndex, int>(kOrigin, -1).first;
-    for (const internal::ExactSolid::Tri& t : solid->triangles) {
+    for (const internal::ExactSolid::Tri& t : solid.triangles) {
       FaceIndex f = mesh.add_face(ids[t.v[0]], ids[t.v[1]], ids[t.v[2]]);
       origin[f] = first_face + t.face;
     }

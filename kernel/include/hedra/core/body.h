@@ -159,10 +159,13 @@ class Body {
   bool two_sided() const;
 
   /// Whether this body is the rounding of an exact solid it keeps: a Boolean's result
-  /// (hedra/mesh/boolean.h), and such a body moved by an affine transformed(). Booleans on it
-  /// start from the exact solid, and exact_volume_sign() measures it; its vertices are the
-  /// exact corners rounded once (within half an ulp per coordinate). Other transformations
-  /// (perspective) and every other way of making a body give a body without one.
+  /// (hedra/mesh/boolean.h), a body with exactly planar faces (a box, a prism, any triangle
+  /// mesh) moved by an affine transformed() — the exact image of its corners, made only when
+  /// first needed — and any of these moved again by an affine map. Booleans on it start from
+  /// the exact solid, and exact_volume_sign() measures it; its vertices are the exact corners
+  /// rounded once (within half an ulp per coordinate). A perspective map, faces planar only
+  /// within rounding (a tessellated sphere) and every other way of making a body give a body
+  /// without one.
   bool has_exact_solid() const { return exact_solid() != nullptr; }
   /// The exact solid itself, for hedra's own layers (its type is private); null if none.
   const std::shared_ptr<const internal::ExactSolid>& exact_solid() const;
