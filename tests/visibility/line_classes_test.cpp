@@ -9,6 +9,7 @@
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
 #include "hedra/io/mesh_io.h"
+#include "hedra/mesh/boolean.h"
 #include "hedra/visibility/roberts.h"
 #include "testing/temp_files.h"
 
@@ -213,6 +214,41 @@ TEST(LineClasses, OutlineIsHiddenByOtherBodies) {
       EXPECT_GE(std::min(s.a.x(), s.b.x()), -1e-9);
     }
   }
+}
+
+// Regression: the outline of a drilled hole's wall was drawn beyond the hole's rim, over the
+// plate's top face: the piece it lies on was never asked to hide it, which holds only where the
+// smooth surface is convex. Every visible outline point must see the eye: checked by ray
+// casting (exact point classification at steps along the ray towards the eye). A boss (a convex
+// cylinder on the plate, its foot a sharp reflex edge) keeps its two contour generators, each
+// of height 1 seen along (−1, −1, −1): √(2/3).
+TEST(LineClasses, HoleWallsDrawNoOutlineBeyondTheirRim) {
+  const Transform turn = Transform::rotation({1, 2, 3}, 37);
+  const Body plate = box({-2, -2, 0}, {2, 2, 1});
+  const std::optional<Body> drilled = subtract(plate.transformed(turn), cylinder(0.5, -1, 2, 1e-3).transformed(turn));
+  ASSERT_TRUE(drilled);
+  const std::vector<Body> bodies{*drilled};
+  int checked = 0;
+  for (const Vec3& d : {Vec3(-1, -1, -1), Vec3(-0.3, 0.5, -1), Vec3(0.2, -0.1, -1), Vec3(0.6, 0.1, -0.4)}) {
+    const Vec3 view = turn.apply_vector(d).normalized();
+    const HlrResult r = hidden_lines(bodies, Camera::parallel(view));
+    EXPECT_GT(r.picture_length(LineKind::Edge), 0);
+    for (const HlrSegment& seg : r.visible) {
+      if (seg.kind != LineKind::Outline) continue;
+      for (int i = 1; i < 8; ++i) {
+        const Vec3 p = seg.a + (seg.b - seg.a) * (i / 8.0);
+        for (double step : {1e-4, 1e-3, 1e-2, 0.05, 0.2, 1.0, 4.0}) {
+          EXPECT_NE(drilled->classify(p - step * view), Location::Inside)
+              << "view " << d.transpose() << ": outline point " << p.transpose() << " is hidden";
+          ++checked;
+        }
+      }
+    }
+  }
+  std::printf("%d outline samples checked\n", checked);
+  const std::vector<Body> boss{unite(plate, cylinder(0.5, 1, 2, 1e-3))};
+  const HlrResult r = hidden_lines(boss, Camera::parallel({-1, -1, -1}));
+  EXPECT_NEAR(r.picture_length(LineKind::Outline), 2 * std::sqrt(2.0 / 3.0), 1e-2);
 }
 
 TEST(LineClasses, SphereOutlineInPerspective) {

@@ -1007,11 +1007,41 @@ void Roberts::outline_of(int b, Scratch& scratch, EdgeOutput& out) const {
       outline(body, view_, options_.crease_angle, surface(b));
   out.stats.outline_segments += static_cast<int>(segments.size());
   std::vector<int> near;
+  // Faces at a smooth reflex edge of the body (the wall of a drilled hole): there the smooth
+  // surface is concave, the outline is not on the silhouette of the piece it lies on, and that
+  // piece's other faces (the plate's top beyond the hole's rim) do hide it. A sharp reflex
+  // edge (a boss's foot on its plate) says nothing of the surface's curvature, and neither does
+  // a turn below kConcaveTurn: a float32 export's side faces fold by ~1e-6 rad either way, a
+  // tessellation's faces turn by 2·√(2t/r) ≥ 1e-3 rad down to a chordal error t of 1e-7 of the
+  // radius r. A drawing construction, in double. Cost O(E), only with outlines.
+  constexpr double kConcaveTurn = 1e-3;  // radians
+  std::vector<char> concave;
+  if (!bd.convex && !segments.empty()) {
+    concave.assign(static_cast<size_t>(body.face_count()), 0);
+    const std::vector<EdgeClass> classes = classify_edges(body, options_.crease_angle, surface(b));
+    const auto& vs = body.vertices();
+    for (size_t i = 0; i < body.edges().size(); ++i) {
+      const Edge& e = body.edges()[i];
+      if (classes[i] != EdgeClass::Smooth) continue;
+      const Plane& left = body.plane(e.left_face);  // inner normal: outside is negative
+      const Vec3 &a = vs[static_cast<size_t>(e.v0)], along = vs[static_cast<size_t>(e.v1)] - a;
+      bool reflex = false;
+      for (const auto& loop : body.faces()[static_cast<size_t>(e.right_face)].loops)
+        for (int w : loop) {
+          if (reflex || w == e.v0 || w == e.v1) continue;
+          const Vec3& p = vs[static_cast<size_t>(w)];
+          const double away = (p - a).cross(along).norm() / along.norm();  // from the edge's line
+          reflex = -left.value(p) > kConcaveTurn * away;
+        }
+      if (reflex) concave[static_cast<size_t>(e.left_face)] = concave[static_cast<size_t>(e.right_face)] = 1;
+    }
+  }
   for (const OutlineSegment& s : segments) {
     if (s.a == s.b || end_on(s.a, s.b)) continue;
     // The outline lies on the body's surface where the view ray grazes it: a convex body never
     // hides it (as its silhouette edges); a piece of a non-convex body that has the segment's
-    // face on its boundary neither (the contour is on its silhouette up to the chordal error).
+    // face on its boundary neither (the contour is on its silhouette up to the chordal error),
+    // unless the face is at a reflex edge (`concave`, above).
     const Vec3 n = -body.inner_normal(s.face);
     // Faceted: the faces within two rings of the segment's face approximate the smooth surface
     // the outline lies on (within the chordal error), so they do not hide it: near the
@@ -1028,7 +1058,7 @@ void Roberts::outline_of(int b, Scratch& scratch, EdgeOutput& out) const {
     const auto keep = [&](const HlrPiece& o) {
       if (o.body != b) return true;
       if (o.face >= 0) return !std::binary_search(near.begin(), near.end(), o.face);
-      return !bd.convex && !outline_on_piece(o, n, s.a, s.b);
+      return !bd.convex && (concave[static_cast<size_t>(s.face)] || !outline_on_piece(o, n, s.a, s.b));
     };
     visible_parts(s.a, s.b, keep, scratch, out);
     for (const TInterval& t : scratch.result)
