@@ -300,8 +300,8 @@ void bind_body(py::module_& m) {
       .def_property_readonly("volume", [](const PyBody& b) { return b.body.volume(); })
       .def_property_readonly("area", [](const PyBody& b) { return b.body.area(); })
       .def_property_readonly("has_exact_solid", [](const PyBody& b) { return b.body.has_exact_solid(); },
-                             "True for a Boolean's result (and its affine moves): it keeps the exact "
-                             "solid its vertices round.")
+                             "True for a Boolean's result and for a body with exactly planar faces moved "
+                             "by an affine map: it keeps the exact solid its vertices round.")
       .def_property_readonly("is_convex", [](const PyBody& b) { return is_convex(b.body); },
                              "Exact convexity test.")
       .def_property_readonly("nonconvex_faces",

@@ -18,6 +18,11 @@ P3 image(const P3& p, const Mat4& m) {
   return P3(q[0], q[1], q[2]);
 }
 
+// Reverses every triangle (the image of a reflection keeps its faces outward).
+void reverse(std::vector<ExactSolid::Tri>& triangles) {
+  for (ExactSolid::Tri& tri : triangles) std::swap(tri.v[1], tri.v[2]);
+}
+
 }  // namespace
 
 const ExactSolid& materialized(const ExactSolid& solid) {
@@ -33,8 +38,7 @@ const ExactSolid& materialized(const ExactSolid& solid) {
       out->points.push_back(std::move(q));
     }
     out->triangles = *from.triangles;
-    if (from.reflected)
-      for (ExactSolid::Tri& tri : out->triangles) std::swap(tri.v[1], tri.v[2]);
+    if (from.reflected) reverse(out->triangles);
     solid.made = std::move(out);
   });
   return *solid.made;
@@ -52,8 +56,7 @@ std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Tra
   out->points.reserve(solid.points.size());
   for (const P3& p : solid.points) out->points.push_back(image(p, t.matrix()));
   out->triangles = solid.triangles;
-  if (t.linear_determinant() < 0)
-    for (ExactSolid::Tri& tri : out->triangles) std::swap(tri.v[1], tri.v[2]);
+  if (t.linear_determinant() < 0) reverse(out->triangles);
   return out;
 }
 

@@ -1051,14 +1051,13 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
   // self-touching slivers of rotated float32 soups), the two runs without it follow, so the
   // outcome is never worse than without simplification.
   // A Boolean's result keeps the exact solid it rounds: where that solid's faces are exactly
-  // planar, it is what is decomposed (exact planes, nothing rounded before the pieces). Its
-  // faces fold by ulps where the operands were rotated in double; then the rounded body, as
-  // any other.
-  // A convex body comes back as it is (run()), not as its solid's rounded piece. Where the
-  // Boolean rounded no corner (ExactSolid::rounded), its body is the solid exactly, and a move
-  // of it a moved double body like any other (the rounding guard below): only what the Boolean
-  // rounded needs the solid, and lazy exact corners everywhere cost 3–4× the guarded run on a
-  // rotated body's doubles.
+  // planar, it is what is decomposed (exact planes, nothing rounded before the pieces); where
+  // they are planar only within rounding (a tessellated sphere's share), the rounded body, as
+  // any other. A convex body comes back as it is (run()), not as its solid's rounded piece.
+  // Where the Boolean rounded no corner (ExactSolid::rounded), its body is the solid exactly,
+  // and a move of it a moved double body like any other (the rounding guard below): only what
+  // the Boolean rounded needs the solid, and lazy exact corners everywhere cost 3–4× the
+  // guarded run on a rotated body's doubles.
   if (const auto& exact_solid = body.exact_solid();
       exact_solid && exact_solid->rounded && options.from_exact_solid && !is_convex(body)) {
     for (bool simplified : {true, false}) {

@@ -129,6 +129,30 @@ std::vector<int> planes_near(Context& ctx, const Vec3& n, double eps) {
 
 P3 exact(const Vec3& p) { return P3(p.x(), p.y(), p.z()); }
 
+// The canonical plane of the exact-planes runs through corners a, b, c (counter-clockwise seen
+// from outside; `r` their doubles, rounded where they are not): a plane met before that holds
+// all three exactly (either orientation; the normal index proposes candidates within `radius`
+// of the corners' scale), else a new one, supported by `r` where `supported` (the corners are
+// doubles) and by no triple otherwise. Returns (plane id, sign): sign +1 when the corners' outward
+// normal is the plane's. Cost O(candidates) exact orientation tests.
+std::pair<int, int> exact_plane_through(Context& ctx, const P3& a, const P3& b, const P3& c,
+                                        const std::array<Vec3, 3>& r, double radius, bool supported) {
+  const Vec3 n = (r[1] - r[0]).cross(r[2] - r[0]);
+  const double longest = std::max({(r[1] - r[0]).norm(), (r[2] - r[1]).norm(), (r[0] - r[2]).norm()});
+  const double height = n.norm() / longest;
+  for (int g : planes_near(ctx, n.normalized(), 8 * radius / height + 1e-9)) {
+    const PL& plane = ctx.planes[static_cast<size_t>(g)];
+    if (plane.oriented_side(a) == CGAL::ON_ORIENTED_BOUNDARY && plane.oriented_side(b) == CGAL::ON_ORIENTED_BOUNDARY &&
+        plane.oriented_side(c) == CGAL::ON_ORIENTED_BOUNDARY)
+      return {g, CGAL::is_positive(CGAL::cross_product(b - a, c - a) * plane.orthogonal_vector()) ? 1 : -1};
+  }
+  const int group = static_cast<int>(ctx.planes.size());
+  ctx.planes.emplace_back(a, b, c);
+  ctx.approx.push_back(Plane::through(r[0], n.normalized()));
+  ctx.support.push_back(supported ? r : std::array<Vec3, 3>{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  return {group, 1};
+}
+
 // Context::exact_planes: the body's triangles, each on the exact plane through its corners;
 // triangles share a canonical plane only when all their corners lie exactly on it (both
 // orientations: pieces may meet a plane from either side). The normal index only proposes
@@ -152,27 +176,8 @@ Piece exact_piece_of(const Body& body, Context& ctx) {
       piece.tris.push_back({t.v, -1, 1});
       continue;
     }
-    const Vec3 n = (v[t.v[1]] - v[t.v[0]]).cross(v[t.v[2]] - v[t.v[0]]);
-    const double longest = std::max({(v[t.v[1]] - v[t.v[0]]).norm(), (v[t.v[2]] - v[t.v[1]]).norm(),
-                                     (v[t.v[0]] - v[t.v[2]]).norm()});
-    const double height = n.norm() / longest;
-    int group = -1, sign = 1;
-    for (int g : planes_near(ctx, n.normalized(), 8 * radius / height + 1e-9)) {
-      const PL& plane = ctx.planes[static_cast<size_t>(g)];
-      if (plane.oriented_side(a) == CGAL::ON_ORIENTED_BOUNDARY &&
-          plane.oriented_side(b) == CGAL::ON_ORIENTED_BOUNDARY &&
-          plane.oriented_side(c) == CGAL::ON_ORIENTED_BOUNDARY) {
-        group = g;
-        sign = CGAL::is_positive(CGAL::cross_product(b - a, c - a) * plane.orthogonal_vector()) ? 1 : -1;
-        break;
-      }
-    }
-    if (group < 0) {
-      group = static_cast<int>(ctx.planes.size());
-      ctx.planes.emplace_back(a, b, c);
-      ctx.approx.push_back(Plane::through(v[t.v[0]], n.normalized()));
-      ctx.support.push_back({v[t.v[0]], v[t.v[1]], v[t.v[2]]});
-    }
+    const auto [group, sign] =
+        exact_plane_through(ctx, a, b, c, {v[t.v[0]], v[t.v[1]], v[t.v[2]]}, radius, true);
     for (int w : t.v) add_on(piece.pts[static_cast<size_t>(w)], group);
     piece.tris.push_back({t.v, group, sign});
   }
@@ -225,31 +230,11 @@ std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ct
     for (size_t t : tris)
       for (int w : solid.triangles[t].v)
         if (plane.oriented_side(solid.points[w]) != CGAL::ON_ORIENTED_BOUNDARY) return std::nullopt;
-    const Vec3 &ra = r[span->v[0]], &rb = r[span->v[1]], &rc = r[span->v[2]];
-    const Vec3 n = (rb - ra).cross(rc - ra);
-    const double longest = std::max({(rb - ra).norm(), (rc - rb).norm(), (ra - rc).norm()});
-    const double height = n.norm() / longest;
-    int group = -1, sign = 1;
-    for (int g : planes_near(ctx, n.normalized(), 8 * radius / height + 1e-9)) {
-      const PL& other = ctx.planes[static_cast<size_t>(g)];
-      if (other.oriented_side(a) == CGAL::ON_ORIENTED_BOUNDARY && other.oriented_side(b) == CGAL::ON_ORIENTED_BOUNDARY &&
-          other.oriented_side(c) == CGAL::ON_ORIENTED_BOUNDARY) {
-        group = g;
-        sign = CGAL::is_positive(plane.orthogonal_vector() * other.orthogonal_vector()) ? 1 : -1;
-        break;
-      }
-    }
-    if (group < 0) {
-      group = static_cast<int>(ctx.planes.size());
-      ctx.planes.push_back(plane);
-      ctx.approx.push_back(Plane::through(ra, n.normalized()));
-      // Three corners with double coordinates support the plane as an input face's do (sides
-      // of double points by orient3d, side()); else none, and sides are the lazy plane's.
-      if (!piece.pts[span->v[0]].depth && !piece.pts[span->v[1]].depth && !piece.pts[span->v[2]].depth)
-        ctx.support.push_back({ra, rb, rc});
-      else
-        ctx.support.push_back({Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
-    }
+    // Three corners with double coordinates support the plane as an input face's do (sides of
+    // double points by orient3d, side()); else none, and sides are the lazy plane's.
+    const bool doubles = !piece.pts[span->v[0]].depth && !piece.pts[span->v[1]].depth && !piece.pts[span->v[2]].depth;
+    const auto [group, sign] =
+        exact_plane_through(ctx, a, b, c, {r[span->v[0]], r[span->v[1]], r[span->v[2]]}, radius, doubles);
     for (size_t t : tris) {
       const auto& v = solid.triangles[t].v;
       for (int w : v) add_on(piece.pts[static_cast<size_t>(w)], group);
