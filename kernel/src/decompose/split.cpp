@@ -12,6 +12,7 @@
 #include <map>
 #include <set>
 #include <tuple>
+#include <type_traits>
 #include <numeric>
 #include <optional>
 #include <unordered_map>
@@ -443,6 +444,19 @@ std::vector<std::array<int, 3>> fill_region(const Context& ctx, int plane, const
     handle.emplace(id, h);
     return h;
   };
+  if constexpr (std::is_same_v<Tr, Cdt>) {
+    // All corners first, in CGAL's spatial order (Delaunay insertion in O(n log n) expected
+    // flips), then the constraints: inserted one by one along the boundary, a run of nearly
+    // collinear cut points made every insertion flip its way through the earlier ones, with
+    // exact in-circle tests on nearly cocircular corners (a rotated star prism's caps).
+    std::vector<std::pair<EK::Point_2, int>> corners;
+    std::unordered_set<int> listed;
+    for (const auto& [a, b] : segments)
+      for (int id : {a, b})
+        if (listed.insert(id).second) corners.emplace_back(EK::Point_2(pts[id].p[u], pts[id].p[w]), id);
+    cdt.insert(corners.begin(), corners.end());
+    for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) handle.emplace(v->info(), v);
+  }
   try {
     for (const auto& [a, b] : segments) {
       const typename Tr::Vertex_handle va = vertex(a), vb = vertex(b);
@@ -659,6 +673,8 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       q.p = P3(x.x(), x.y(), x.z());
     } else {
       std::tie(q.p, q.depth) = cut_point_of(ctx, pts[lo], pts[hi], plane);
+      if (ctx.cut_points.fetch_add(1, std::memory_order_relaxed) + 1 > ctx.cut_budget && ctx.cut_budget)
+        throw CutBudgetExceeded{};
     }
     std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),
                           pts[hi].on.end(), std::back_inserter(q.on));

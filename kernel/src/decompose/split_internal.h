@@ -5,6 +5,7 @@
 #include <CGAL/Exact_predicates_exact_constructions_kernel.h>
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <mutex>
@@ -45,6 +46,11 @@ struct Context {
   // that piece_of() finds a face's plane among the planes met before without scanning them all.
   std::unordered_map<std::uint64_t, std::vector<int>> normal_cells;
   size_t indexed = 0;
+  // A work budget for a run that has an alternative (decompose(): a moved body's exact
+  // image): the exact cut points split() may make in all, 0 for no limit. Past it split()
+  // throws CutBudgetExceeded. cut_points counts them (every run).
+  size_t cut_budget = 0;
+  mutable std::atomic<size_t> cut_points{0};
   // The exact planes of triangles off their canonical plane (Tri::own): made while reading the
   // body and by caps (cuts run in parallel, hence the lock); a deque keeps their addresses.
   mutable std::mutex own_mutex;
@@ -54,6 +60,9 @@ struct Context {
     return &own_planes.emplace_back(a, b, c);
   }
 };
+
+/// Thrown by split() when a run has made Context::cut_budget exact cut points.
+struct CutBudgetExceeded {};
 
 struct Point {
   P3 p;
