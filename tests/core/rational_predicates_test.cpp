@@ -1,4 +1,5 @@
-// The 2D orientation and in-circle tests of kernel/src/core/rational_predicates.h against
+// The 2D orientation and in-circle tests and the 3D side of a plane of
+// kernel/src/core/rational_predicates.h against
 // CGAL's own exact predicates (the reference), on rational points made the way the exact
 // decomposition makes them (quotients of lazy exact numbers), in general position and in the
 // degenerate positions its caps meet: collinear runs and cocircular corners.
@@ -103,6 +104,31 @@ TEST(RationalPredicates, SharedDenominatorsAndDoubles) {
   EXPECT_EQ(side_of_oriented_circle_2(u, v, w, P2(1, 0)), CGAL::ON_ORIENTED_BOUNDARY);
   EXPECT_EQ(side_of_oriented_circle_2(u, v, w, P2(0, 0)), CGAL::ON_POSITIVE_SIDE);
   EXPECT_EQ(side_of_oriented_circle_2(u, v, w, P2(2, 0)), CGAL::ON_NEGATIVE_SIDE);
+}
+
+// The side of a point against a plane (exact_convex() in decompose.cpp): planes through three
+// rational points and points exactly on them (the interval stage cannot decide), a tiny step
+// off, and in general position, against CGAL's Plane_3::oriented_side.
+TEST(RationalPredicates, OrientedSide3EqualsCgalOnAndNearThePlane) {
+  using P3 = EK::Point_3;
+  std::mt19937_64 rng(11);
+  auto point3 = [&] { return P3(rational(rng), rational(rng), rational(rng)); };
+  int on = 0, off = 0;
+  for (int i = 0; i < 300; ++i) {
+    const P3 a = point3(), b = point3(), c = point3();
+    const EK::Plane_3 h(a, b, c);
+    const FT s = rational(rng), t = rational(rng);
+    const P3 x = a + s * (b - a) + t * (c - a);  // exactly on h
+    EXPECT_EQ(oriented_side_3(h, x), CGAL::ON_ORIENTED_BOUNDARY);
+    on += oriented_side_3(h, x) == CGAL::ON_ORIENTED_BOUNDARY;
+    for (const P3& y : {P3(x.x() + FT(1) / FT(1e15), x.y(), x.z()), P3(x.x(), x.y(), x.z() - FT(1) / FT(1e15)), point3()}) {
+      EXPECT_EQ(oriented_side_3(h, y), h.oriented_side(y));
+      off += oriented_side_3(h, y) != CGAL::ON_ORIENTED_BOUNDARY;
+    }
+    EXPECT_EQ(oriented_side_3(h.opposite(), x + (b - a)), h.opposite().oriented_side(x + (b - a)));
+  }
+  EXPECT_EQ(on, 300);
+  EXPECT_GE(off, 890);  // a step of 1e-15 off a plane through rational points is rarely 0
 }
 
 }  // namespace

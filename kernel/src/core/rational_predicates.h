@@ -126,6 +126,42 @@ inline CGAL::Oriented_side side_of_oriented_circle_2(const rational::EK::Point_2
   return static_cast<CGAL::Oriented_side>(rational::det3_sign(a.x, a.y, a.l, b.x, b.y, b.l, c.x, c.y, c.l));
 }
 
+/// Side of p against the plane (ON_POSITIVE_SIDE where a·x + b·y + c·z + d > 0), as
+/// CGAL's Plane_3::oriented_side, exact. Interval first; the exact stage sums the four terms
+/// n_i / d_i as Σ n_i · Π_{j≠i} d_j in integers (no gcd), where GMP rationals reduce every
+/// product and sum by a gcd. Cost: one interval evaluation, else 18 integer products.
+inline CGAL::Oriented_side oriented_side_3(const rational::EK::Plane_3& h, const rational::EK::Point_3& p) {
+  {
+    CGAL::Protect_FPU_rounding<true> guard;
+    const auto& ah = h.approx();
+    const auto& ap = p.approx();
+    const CGAL::Uncertain<CGAL::Sign> s =
+        CGAL::sign(ah.a() * ap.x() + ah.b() * ap.y() + ah.c() * ap.z() + ah.d());
+    if (CGAL::is_certain(s)) return static_cast<CGAL::Oriented_side>(CGAL::get_certain(s));
+  }
+  const auto& eh = CGAL::exact(h);
+  const auto& ep = CGAL::exact(p);
+  const mpq_class coef[3] = {eh.a(), eh.b(), eh.c()};  // by value in CGAL's Plane_3
+  const mpq_class* coord[3] = {&ep.x(), &ep.y(), &ep.z()};
+  mpz_class n[4], d[4];
+  for (int i = 0; i < 3; ++i) {
+    n[i] = coef[i].get_num() * coord[i]->get_num();
+    d[i] = coef[i].get_den() * coord[i]->get_den();
+  }
+  const mpq_class last = eh.d();
+  n[3] = last.get_num();
+  d[3] = last.get_den();
+  mpz_class suffix[5];
+  suffix[4] = 1;
+  for (int i = 3; i >= 0; --i) suffix[i] = suffix[i + 1] * d[i];
+  mpz_class prefix = 1, sum = 0;
+  for (int i = 0; i < 4; ++i) {
+    sum += n[i] * prefix * suffix[i + 1];
+    prefix *= d[i];
+  }
+  return static_cast<CGAL::Oriented_side>(sgn(sum));
+}
+
 /// A triangulation traits class: Epeck with the two predicates above (CGAL's triangulations
 /// call them through orientation_2_object() and side_of_oriented_circle_2_object()).
 struct RationalTriangulationTraits : rational::EK {

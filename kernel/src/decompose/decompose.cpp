@@ -5,6 +5,7 @@
 #include "decompose/decompose_internal.h"
 #include "decompose/split_internal.h"
 #include "core/exact_plane.h"
+#include "core/rational_predicates.h"
 
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/convex_hull_3.h>
@@ -644,7 +645,7 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
       const auto& sp = model.support[static_cast<size_t>(c)];
       return orient3d(sp[0], sp[1], sp[2], q.input);
     }
-    const CGAL::Oriented_side o = ctx.planes[static_cast<size_t>(c)].oriented_side(q.p);
+    const CGAL::Oriented_side o = oriented_side_3(ctx.planes[static_cast<size_t>(c)], q.p);
     return o == CGAL::ON_ORIENTED_BOUNDARY ? Sign::Zero : (o == CGAL::ON_POSITIVE_SIDE ? Sign::Positive : Sign::Negative);
   };
   const auto exactly_on = [&](int v, int c) { return canonical_side(c, v) == Sign::Zero; };
@@ -710,7 +711,7 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
     }
     if (std::find(r.v.begin(), r.v.end(), v) != r.v.end()) return 0;
     if (r.own) {
-      const CGAL::Oriented_side o = r.own->oriented_side(point(v));
+      const CGAL::Oriented_side o = oriented_side_3(*r.own, point(v));
       return o == CGAL::ON_ORIENTED_BOUNDARY ? 0 : (o == r.own_inner ? 1 : -1);
     }
     const CGAL::Orientation o = orientation(r.v[0], r.v[1], r.v[2], v);
