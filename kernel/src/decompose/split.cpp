@@ -61,7 +61,7 @@ int side(const Context& ctx, const Point& pt, int id) {
   if (sp[0] != sp[1] && (pt.origin >= 0 || as_doubles(pt.p, x)))
     s = static_cast<int>(orient3d(sp[0], sp[1], sp[2], pt.origin >= 0 ? pt.input : x));
   else
-    s = static_cast<int>(ctx.planes[id].oriented_side(pt.p));
+    s = static_cast<int>(oriented_side_3(ctx.planes[id], pt.p));  // integers, no gcd
   if (s == 0) return 0;
   if (ctx.guard > 0 && pt.origin >= 0 && std::abs(ctx.approx[id].value(pt.input)) <= ctx.guard) return 0;
   return s;
@@ -673,7 +673,7 @@ Sides split_piece(const Context& ctx, const Piece& in, int plane) {
       q.p = P3(x.x(), x.y(), x.z());
     } else {
       std::tie(q.p, q.depth) = cut_point_of(ctx, pts[lo], pts[hi], plane);
-      if (ctx.cut_points.fetch_add(1, std::memory_order_relaxed) + 1 > ctx.cut_budget && ctx.cut_budget)
+      if (ctx.cut_budget && ctx.cut_points.fetch_add(1, std::memory_order_relaxed) >= ctx.cut_budget)
         throw CutBudgetExceeded{};
     }
     std::set_intersection(pts[lo].on.begin(), pts[lo].on.end(), pts[hi].on.begin(),

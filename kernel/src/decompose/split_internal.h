@@ -48,7 +48,8 @@ struct Context {
   size_t indexed = 0;
   // A work budget for a run that has an alternative (decompose(): a moved body's exact
   // image): the exact cut points split() may make in all, 0 for no limit. Past it split()
-  // throws CutBudgetExceeded. cut_points counts them (every run).
+  // throws CutBudgetExceeded; cut_points counts them (only where there is a budget: one
+  // shared atomic in the parallel cuts' hot loop).
   size_t cut_budget = 0;
   mutable std::atomic<size_t> cut_points{0};
   // The exact planes of triangles off their canonical plane (Tri::own): made while reading the
