@@ -550,7 +550,37 @@ TEST(Decompose, BooleanResultsAreDecomposedFromTheirExactSolid) {
   const Decomposition exact = decompose(*holed, options);
   EXPECT_TRUE(exact.from_exact_solid);
   EXPECT_TRUE(exact.verified);  // pieces' exact volumes sum to the exact solid's
-  EXPECT_TRUE(exact.planes.empty() && exact.piece_planes.empty());
+  // The model is the solid's face planes, with the rounded body's vertices and faces on them by
+  // construction: every vertex of a face on the face's plane (the rounded corners are off it by
+  // an ulp, so an exact test alone would say no), and every other vertex on the side the
+  // rounded plane puts it, where it is far from the plane.
+  ASSERT_FALSE(exact.planes.empty());
+  ASSERT_EQ(exact.piece_planes.size(), exact.pieces.size());
+  ASSERT_EQ(exact.planes.face_planes.size(), static_cast<size_t>(holed->face_count()));
+  int by_coefficients = 0;
+  for (const ExactPlane& e : exact.planes.exact) by_coefficients += e.by_exact();
+  EXPECT_GT(by_coefficients, 0);  // the slanted prism's faces through corners that are not doubles
+  for (int f = 0; f < holed->face_count(); ++f) {
+    const auto& planes = exact.planes.face_planes[static_cast<size_t>(f)];
+    ASSERT_EQ(planes.size(), 1u) << "face " << f;
+    const int c = planes[0].first;
+    std::vector<char> on_face(static_cast<size_t>(holed->vertex_count()), 0);
+    for (const auto& loop : holed->faces()[static_cast<size_t>(f)].loops)
+      for (int v : loop) {
+        on_face[static_cast<size_t>(v)] = 1;
+        EXPECT_TRUE(exact.planes.on(c, v, holed->vertices()[static_cast<size_t>(v)])) << "face " << f << " vertex " << v;
+      }
+    // Outward: the face's rounded plane (inner normal) and the canonical plane's positive side.
+    const Plane& rounded_plane = holed->plane(f);
+    for (int v = 0; v < holed->vertex_count(); ++v) {
+      const Vec3& q = holed->vertices()[static_cast<size_t>(v)];
+      const double value = rounded_plane.value(q);
+      if (on_face[static_cast<size_t>(v)] || std::abs(value) < 1e-9) continue;
+      const Sign expected = (value > 0) == (planes[0].second > 0) ? Sign::Negative : Sign::Positive;
+      EXPECT_EQ(exact.planes.side(c, q), expected) << "face " << f << " vertex " << v;
+      EXPECT_FALSE(exact.planes.on(c, v, q)) << "face " << f << " vertex " << v;
+    }
+  }
   ASSERT_EQ(exact.exact_pieces.size(), exact.pieces.size());
   for (size_t k = 0; k < exact.pieces.size(); ++k) {
     EXPECT_GE(exact.exact_pieces[k].faces.size(), 4u) << "piece " << k;  // exactly convex
@@ -622,7 +652,7 @@ TEST(Decompose, ARotatedStarPrismWhoseCutsMultiplyIsCutFromItsExactImage) {
   const Decomposition twin = decompose(aligned, options);
   EXPECT_FALSE(twin.from_exact_solid);
   EXPECT_EQ(twin.pieces.size(), 65u);
-  // Without the image (as hidden lines and shadows ask), the guarded run goes on past the
+  // Without the image (DecomposeOptions::from_exact_solid off), the guarded run goes on past the
   // budget: the same pieces, only slower.
   options.from_exact_solid = false;
   const Decomposition guarded = decompose(turned, options);

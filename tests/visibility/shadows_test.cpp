@@ -14,6 +14,8 @@
 #include "hedra/core/error.h"
 #include "hedra/visibility/polygon_union.h"
 #include "hedra/core/primitives.h"
+#include "testing/decomposition_suite.h"
+#include "hedra/mesh/boolean.h"
 #include "hedra/mesh/convexity.h"
 
 namespace hedra {
@@ -870,6 +872,52 @@ TEST(Shadows, TriangulatedSphereCastsTheShadowOfItsConvexTwin) {
 // face. Output polygons now drop that debris (kShadowDebris): every ring has distinct vertices,
 // no spike and a width far above rounding, and the polygons' areas still sum to the face's
 // shadow area.
+// Issue 14, "exact inside": shadows of a moved body whose guarded run multiplies its cuts (a
+// rotated star prism of 64 points) and of a Boolean that rounds its corners (a plate drilled
+// after both operands were rotated) come from the pieces of their exact solids (Decomposition::
+// from_exact_solid), with the bodies' faces on the solids' planes by construction. Reference:
+// the aligned twin under the correspondingly rotated light casts the same areas, face by face
+// (the star, the ground) and in all (the plate, whose Boolean numbers its faces its own way).
+TEST(Shadows, MovedAndBooleanBodiesShadowWithTheirExactSolidsPieces) {
+  const Transform turn = Transform::rotation({1, 2, 3}, 37);
+  const Body ground = box({-6, -6, -1}, {6, 6, 0});
+  const Body star = prism(suite::star(64, 1, 0.5), 0, 1).translated({-3, 0, 0});
+  const Body slab = box({0.5, -2, 0}, {4.5, 2, 1});
+  const Body drill = cylinder(0.5, -1, 2, 0.01).translated({2.5, 0, 0});
+  const auto build = [&](bool turned) {
+    Scene s;
+    const auto move = [&](const Body& b) { return turned ? b.transformed(turn) : b; };
+    s.add("ground", move(ground));
+    s.add("star", move(star));
+    s.add("plate", *subtract(move(slab), move(drill)));
+    const Vec3 d(-1, -0.7, -2);
+    s.lights.push_back(Light::directional(turned ? turn.apply_vector(d) : d));
+    return s;
+  };
+  const Scene s0 = build(false), s1 = build(true);
+  DecomposeOptions exact;
+  exact.exact_pieces = true;
+  EXPECT_TRUE(decompose(s1.get("star").body, exact).from_exact_solid);
+  EXPECT_TRUE(decompose(s1.get("plate").body, exact).from_exact_solid);
+  const ShadowResult r0 = compute_shadows(s0), r1 = compute_shadows(s1);
+  ASSERT_EQ(r0.lights[0].faces.size(), r1.lights[0].faces.size());
+  double plate0 = 0, plate1 = 0, plate_area = 0;
+  for (size_t i = 0; i < r0.lights[0].faces.size(); ++i) {
+    const FaceShadow &f0 = r0.lights[0].faces[i], &f1 = r1.lights[0].faces[i];
+    if (f0.body == 2) {
+      plate0 += f0.shadow_area;
+      plate1 += f1.shadow_area;
+      plate_area += f0.area;
+      continue;
+    }
+    EXPECT_EQ(f0.to_light, f1.to_light) << f0.body << " " << f0.face;
+    EXPECT_NEAR(f0.shadow_area, f1.shadow_area, 1e-9 * f0.area) << f0.body << " " << f0.face;
+  }
+  EXPECT_GT(r0.face(0, 0, kZMax).shadow_area, 1);  // the star and the plate shade the ground
+  EXPECT_GT(plate0, 1);                             // the hole's wall shades itself
+  EXPECT_NEAR(plate1, plate0, 1e-9 * plate_area);
+}
+
 TEST(Shadows, RotatedNonConvexBodiesGiveShadowPolygonsWithoutRoundingDebris) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);

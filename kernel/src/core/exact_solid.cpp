@@ -56,6 +56,7 @@ std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Tra
   out->points.reserve(solid.points.size());
   for (const P3& p : solid.points) out->points.push_back(image(p, t.matrix()));
   out->triangles = solid.triangles;
+  out->body_vertex = solid.body_vertex;
   if (t.linear_determinant() < 0) reverse(out->triangles);
   return out;
 }

@@ -32,6 +32,12 @@ struct ExactSolid {
   };
   std::vector<ExactKernel::Point_3> points;
   std::vector<Tri> triangles;
+  /// Per point: the body vertex it rounds to, −1 for a point the body dropped (one only
+  /// splitting an edge of the body). Empty: point i is vertex i (a pending image, and a Boolean
+  /// whose body kept every point). Kept through affine moves, which keep the body's vertex
+  /// order. What lets a consumer of the solid's decomposition decide incidence with the rounded
+  /// body's vertices by construction (Decomposition::planes).
+  std::vector<int> body_vertex;
   struct Pending {
     // The double corners and triangles of the body first moved (exactly planar faces, no
     // solid of its own), shared by every later move; not the body, whose derived data

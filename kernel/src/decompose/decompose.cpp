@@ -865,14 +865,26 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
     if (!corner) return std::nullopt;
     out.faces[f] = plane_through_exact(a.p, b.p, c.p, *corner);
   }
+  out.canonical.reserve(refs.size());
+  for (const FaceRef& r : refs) out.canonical.push_back(r.plane);
   return out;
 }
 
-// `solid`: the exact piece of the body's exact solid (piece_of(const ExactSolid&, …)), to
-// decompose instead of the rounded body; the model of the rounded body (Decomposition::planes,
-// piece_planes) is then not made, since it refers to the rounded body's vertices and faces.
+// The exact solid a run decomposes instead of the rounded body, with what ties it to the body:
+// `whole`, its exact piece (piece_of(const ExactSolid&, …)); `body_vertex`, per point of the
+// solid the body vertex it rounds to (−1: none); `face_plane`, per body face the
+// (canonical plane, sign) of the solid's triangles that round into it.
+struct SolidInput {
+  Piece whole;
+  std::vector<int> body_vertex;
+  std::vector<std::pair<int, int>> face_plane;
+};
+
+// `solid`: decomposed instead of the rounded body. The model (Decomposition::planes,
+// piece_planes) is then the solid's face planes, with the body's vertices and faces on them by
+// construction through `solid`'s maps.
 Decomposition run(const Body& body, const DecomposeOptions& options, Context& ctx,
-                  std::optional<Piece> solid = std::nullopt) {
+                  std::optional<SolidInput> solid = std::nullopt) {
   const bool from_solid = solid.has_value();
   if (!from_solid && !options.verify && is_convex(body)) {
     // Convex input returns at once: O(V + E) (mesh/convexity.h), before the exact pieces.
@@ -881,7 +893,7 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     out.exact_volume = body.volume();
     return out;
   }
-  Piece whole = from_solid ? std::move(*solid) : piece_of(body, ctx);
+  Piece whole = from_solid ? std::move(solid->whole) : piece_of(body, ctx);
   std::vector<Piece> open = components(whole.pts, whole.tris);
   std::vector<Piece> done;
   Decomposition out;
@@ -970,7 +982,7 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
     if (ctx.floating) {
       out.pieces.push_back(body_of(p));
     } else if (std::optional<Body> b = rounded_piece(p)) {
-      if (!from_solid) out.piece_planes.push_back(face_planes(p));
+      out.piece_planes.push_back(face_planes(p));
       out.pieces.push_back(std::move(*b));
       kept.push_back(&p);
     } else {
@@ -1002,6 +1014,31 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
         const std::pair<int, int> c(whole.tris[t].plane, whole.tris[t].sign);
         if (!std::binary_search(fp.begin(), fp.end(), c)) fp.insert(std::upper_bound(fp.begin(), fp.end(), c), c);
       }
+    } else if (solid->body_vertex.empty() && whole.pts.size() != static_cast<size_t>(body.vertex_count())) {
+      // Not tied to the body's vertices (never by ExactSolid's contract): no model, and the
+      // consumers decide incidence within rounding (as for a decomposition that gave none).
+      m = InputPlanes{};
+      out.piece_planes.clear();
+    } else {
+      // The solid's model of the rounded body: a vertex on the planes of the corner it rounds,
+      // a face on the plane of the triangles that round into it. The planes no three doubles
+      // support get their exact coefficients (once each: the pieces share them).
+      m.vertex_planes.assign(static_cast<size_t>(body.vertex_count()), {});
+      for (size_t w = 0; w < whole.pts.size(); ++w) {
+        const int v = solid->body_vertex.empty() ? static_cast<int>(w) : solid->body_vertex[w];
+        if (v >= 0 && v < body.vertex_count()) m.vertex_planes[static_cast<size_t>(v)] = whole.pts[w].on;
+      }
+      m.face_planes.assign(static_cast<size_t>(body.face_count()), {});
+      for (size_t f = 0; f < solid->face_plane.size() && f < m.face_planes.size(); ++f)
+        if (solid->face_plane[f].first >= 0) m.face_planes[f].push_back(solid->face_plane[f]);
+      m.exact.resize(m.support.size());
+      parallel_chunks(m.support.size(), 64, [&](size_t, size_t lo, size_t hi) {
+        for (size_t c = lo; c != hi; ++c) {
+          const auto& t = m.support[c];
+          if ((t[1] - t[0]).cross(t[2] - t[0]).squaredNorm() > 0) continue;
+          m.exact[c] = plane_of_lazy(ctx.planes[c], false);
+        }
+      });
     }
     // The exact pieces as planes, in parallel (independent pieces; exact arithmetic only). A
     // piece that is not exactly convex (an ulp fold of the guarded run) gets none: its
@@ -1011,7 +1048,6 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
       for (size_t i = lo; i != hi; ++i)
         if (std::optional<ExactConvex> e = exact_convex(ctx, m, *kept[i])) out.exact_pieces[i] = std::move(*e);
     });
-    if (from_solid) out.planes = InputPlanes{};  // its planes pass through no input vertex
   }
   return out;
 }
@@ -1021,18 +1057,21 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
 bool InputPlanes::on(int c, int v, const Vec3& p) const {
   const std::vector<int>& by_construction = vertex_planes[static_cast<size_t>(v)];
   if (std::binary_search(by_construction.begin(), by_construction.end(), c)) return true;
-  const std::array<Vec3, 3>& s = support[static_cast<size_t>(c)];
-  if (orient3d(s[0], s[1], s[2], p) == Sign::Zero) return true;
+  if (side(c, p) == Sign::Zero) return true;
   // decompose's side(): an input vertex within the guard of a plane is on it.
   return guard > 0 && std::abs(approx[static_cast<size_t>(c)].value(p)) <= guard;
 }
 
 Sign InputPlanes::side(int c, const Vec3& p) const {
+  if (static_cast<size_t>(c) < exact.size() && exact[static_cast<size_t>(c)].by_exact())
+    return side_of_plane(exact[static_cast<size_t>(c)], p);
   const std::array<Vec3, 3>& s = support[static_cast<size_t>(c)];
   return orient3d(s[0], s[1], s[2], p);
 }
 
 Sign InputPlanes::side_along(int c, const Vec3& d) const {
+  if (static_cast<size_t>(c) < exact.size() && exact[static_cast<size_t>(c)].by_exact())
+    return direction_sign(exact[static_cast<size_t>(c)], d);
   const std::array<Vec3, 3>& s = support[static_cast<size_t>(c)];
   return orient_direction(s[0], s[1], s[2], d);
 }
@@ -1074,9 +1113,13 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
         Context ctx;
         ctx.exact_planes = true;
         ctx.simplify = simplified;
-        std::optional<Piece> whole = piece_of(materialized(*exact_solid), body.scale(), ctx);
+        const ExactSolid& made = materialized(*exact_solid);
+        SolidInput input;
+        std::optional<Piece> whole = piece_of(made, body.scale(), ctx, &input.face_plane);
         if (!whole) return std::nullopt;
-        Decomposition out = run(body, options, ctx, std::move(whole));
+        input.whole = std::move(*whole);
+        input.body_vertex = made.body_vertex;
+        Decomposition out = run(body, options, ctx, std::move(input));
         out.from_exact_solid = true;
         if (!options.verify || out.verified) return out;
       } catch (const InternalError&) {

@@ -202,7 +202,8 @@ Piece exact_piece_of(const Body& body, Context& ctx) {
 
 }  // namespace
 
-std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ctx) {
+std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ctx,
+                              std::vector<std::pair<int, int>>* face_plane) {
   Piece piece;
   piece.pts.resize(solid.points.size());
   std::vector<Vec3> r(solid.points.size());  // rounded, for the normal index only
@@ -236,6 +237,10 @@ std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ct
     const bool doubles = !piece.pts[span->v[0]].depth && !piece.pts[span->v[1]].depth && !piece.pts[span->v[2]].depth;
     const auto [group, sign] =
         exact_plane_through(ctx, a, b, c, {r[span->v[0]], r[span->v[1]], r[span->v[2]]}, radius, doubles);
+    if (face_plane && face >= 0) {
+      if (face_plane->size() <= static_cast<size_t>(face)) face_plane->resize(static_cast<size_t>(face) + 1, {-1, 0});
+      (*face_plane)[static_cast<size_t>(face)] = {group, sign};
+    }
     for (size_t t : tris) {
       const auto& v = solid.triangles[t].v;
       for (int w : v) add_on(piece.pts[static_cast<size_t>(w)], group);

@@ -137,8 +137,11 @@ Piece piece_of(const Body& body, Context& ctx);
 // it (either orientation). nullopt when a face is not exactly planar (operands rotated in
 // double: the solid inherits their faces' ulp folds); the caller then decomposes the rounded
 // body with the rounding guard instead. `scale`: the body's, for the normal index.
+// `face_plane`, where given: per face of the solid's triangles (ExactSolid::Tri::face), its
+// (canonical plane, sign) ((−1, 0) for a face no triangle names).
 // Cost O(T) exact orientation tests.
-std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ctx);
+std::optional<Piece> piece_of(const ExactSolid& solid, double scale, Context& ctx,
+                              std::vector<std::pair<int, int>>* face_plane = nullptr);
 // The connected components of a triangle soup, as pieces. Cost O(T).
 std::vector<Piece> components(const std::vector<Point>& pts, const std::vector<Tri>& tris);
 

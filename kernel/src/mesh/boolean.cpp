@@ -277,6 +277,9 @@ std::optional<Body> to_body(const Mesh& mesh) {
       if (remap[w] >= 0) solid->rounded = true;  // a corner of the body, rounded
     }
   }
+  bool identity = true;
+  for (size_t w = 0; w < nv && identity; ++w) identity = remap[w] == static_cast<int>(w);
+  if (!identity) solid->body_vertex = std::move(remap);
   solid->triangles.reserve(faces.size());
   for (int i = 0; i < n; ++i) {
     internal::ExactSolid::Tri t{{}, face_of[i]};

@@ -243,7 +243,6 @@ void Roberts::prepare_bodies() {
       try {
         DecomposeOptions decompose_options;
         decompose_options.exact_pieces = true;
-        decompose_options.from_exact_solid = false;  // incidence is decided on the rounded body
         if (meter_.active())
           decompose_options.progress = [this](int, int) {
             meter_.add(0);  // reports on the caller's thread, throws once cancelled
@@ -791,7 +790,12 @@ bool Roberts::end_on(const Vec3& a, const Vec3& b) const {
 
 void Roberts::end_snapped(const HlrPiece& p, const EndVertices& ends, const Vec3& p1,
                           const Vec3& p2, std::optional<SegmentPart>& part) const {
-  if (!part || !p.exact || p.large || p.body != ends.body || p.face_canonical.empty()) return;
+  if (!part || !p.exact || p.large || p.body != ends.body) return;
+  // An exact piece's volume is the exact piece's own, but the end vertex is the rounding of
+  // a corner that lies on its face in the model (the exact image's decomposition: the vertex
+  // an ulp off the exact plane), so a hidden part can end an ulp short of it.
+  const bool exact_piece = p.exact_piece && !p.exact_piece->canonical.empty();
+  if (!exact_piece && p.face_canonical.empty()) return;
   const OcclusionVolume& v = volume(p);
   if (!v.clipper) return;
   const std::vector<ExactPlane>& planes = v.clipper->planes();
@@ -801,8 +805,9 @@ void Roberts::end_snapped(const HlrPiece& p, const EndVertices& ends, const Vec3
   };
   // Whether the exact counterpart of volume plane i passes through end vertex w (at q).
   const auto through = [&](std::ptrdiff_t i, int w, const Vec3& q) {
-    return i >= 0 && internal::volume_plane_through(v, static_cast<size_t>(i), *p.piece, p.face_canonical,
-                                                    model, w, q);
+    if (i < 0) return false;
+    if (exact_piece) return internal::exact_volume_plane_through(v, static_cast<size_t>(i), *p.exact_piece, model, w, q);
+    return internal::volume_plane_through(v, static_cast<size_t>(i), *p.piece, p.face_canonical, model, w, q);
   };
   // Every other plane holds on the part (lo, hi) strictly; where it also holds at the end
   // vertex (exactly on its rounded plane, or through the vertex in the model), it holds

@@ -53,4 +53,23 @@ bool volume_plane_through(const OcclusionVolume& volume, size_t i, const Body& p
   return false;
 }
 
+bool exact_volume_plane_through(const OcclusionVolume& volume, size_t i, const ExactConvex& piece,
+                                const InputPlanes& model, int w, const Vec3& q) {
+  if (w < 0 || !volume.clipper || i >= volume.clipper->planes().size() || piece.canonical.size() != piece.faces.size())
+    return false;
+  const auto on = [&](int face) {
+    const int c = piece.canonical[static_cast<size_t>(face)];
+    return c >= 0 && model.on(c, w, q);
+  };
+  const auto& fronts = volume.front_faces;  // ascending (occlusion_volume)
+  if (i < fronts.size()) return on(fronts[i]);
+  const auto front = [&](int f) { return std::binary_search(fronts.begin(), fronts.end(), f); };
+  size_t k = fronts.size();
+  for (const auto& [a, b] : piece.edges) {
+    if (front(a) == front(b)) continue;
+    if (k++ == i) return on(a) && on(b);
+  }
+  return false;
+}
+
 }  // namespace hedra::internal

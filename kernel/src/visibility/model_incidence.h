@@ -34,4 +34,14 @@ bool volume_plane_through(const OcclusionVolume& volume, size_t i, const Body& p
                           const std::vector<int>& face_planes, const InputPlanes& model, int w,
                           const Vec3& q);
 
+/// The same for the occlusion volume of an exact piece (occlusion_volume(const ExactConvex&,
+/// …): its front faces' planes, then a plane per edge between a front face and one that is
+/// not, in edge order): a front plane passes through w when its face's canonical plane
+/// (ExactConvex::canonical) holds w, an edge's plane (the pencil through the edge and the
+/// viewpoint, or the other face's plane when that face is edge-on) when the canonical planes
+/// of both faces do. False where a face has none. Cost O(1) for a front plane, O(E) for an
+/// edge's.
+bool exact_volume_plane_through(const OcclusionVolume& volume, size_t i, const ExactConvex& piece,
+                                const InputPlanes& model, int w, const Vec3& q);
+
 }  // namespace hedra::internal

@@ -216,7 +216,6 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       try {
         DecomposeOptions options;
         options.exact_pieces = true;
-        options.from_exact_solid = false;  // incidence is decided on the rounded body
         Decomposition d = decompose(bd.body, options);
         pieces[b] = std::move(d.pieces);
         exact_planes[b] = std::move(d.piece_planes);

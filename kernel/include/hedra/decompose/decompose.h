@@ -35,10 +35,11 @@ struct DecomposeOptions {
   /// Decompose the exact solid a Boolean's result keeps (Body::exact_solid()) rather than its
   /// rounding, where the Boolean rounded a corner of its body and the solid's faces are exactly
   /// planar (Decomposition::from_exact_solid; else the body, as any other).
-  /// Its pieces and exact_pieces are then those of the exact result; `planes` and
-  /// `piece_planes`, which refer to the rounded body's vertices and faces, stay empty. Hidden
-  /// lines and shadows, which decide incidence with the rounded body's edges through them,
-  /// turn it off.
+  /// Its pieces and exact_pieces are then those of the exact result, and `planes` and
+  /// `piece_planes` the solid's face planes, with the rounded body's vertices on them by
+  /// construction (the solid's corners they round) and its faces on them (the solid's faces
+  /// they round): hidden lines and shadows decide incidence with the rounded body's edges
+  /// through them, as with the guarded run's model.
   bool from_exact_solid = true;
 };
 
@@ -47,12 +48,22 @@ struct DecomposeOptions {
 /// shadows: an edge or face of the input lying on a piece's face; docs/design.md, "Exact
 /// inside, rounded only at the edge"). Every face of an exact piece lies on one canonical
 /// plane: the plane of an input face (or, in the exact-planes run, of an input triangle)
-/// through three input vertices; input faces coplanar within rounding share one. Value type.
+/// through three input vertices; input faces coplanar within rounding share one. Where the
+/// pieces are those of the body's exact solid (Decomposition::from_exact_solid), the planes are
+/// the solid's face planes, exactly coplanar faces sharing one: through three input vertices
+/// where three corners of the face are doubles, else given by exact coefficients (`exact`);
+/// the body's vertices are the solid's corners rounded, on their faces' planes by
+/// construction. Value type.
 struct InputPlanes {
   /// Per canonical plane: three input vertices it passes through, ordered so that
   /// orient3d(s[0], s[1], s[2], p) is Positive for p strictly on its positive side (outside the
-  /// input faces that have sign +1 on it).
+  /// input faces that have sign +1 on it). Zero for a plane given by `exact`.
   std::vector<std::array<Vec3, 3>> support;
+  /// Per canonical plane (empty, or as many as `support`): the plane's exact coefficients
+  /// (ExactPlane::by_exact(), positive side Positive) where no three input vertices support
+  /// it (a face of a moved body's exact image, or of a Boolean's solid, through corners that
+  /// are not doubles); a default plane elsewhere.
+  std::vector<ExactPlane> exact;
   /// Per canonical plane: unit-normal double plane (same orientation), and the rounding guard
   /// (0 in the exact-planes run): the model's rule for input vertices (see on()).
   std::vector<Plane> approx;
@@ -64,12 +75,14 @@ struct InputPlanes {
   std::vector<std::vector<std::pair<int, int>>> face_planes;
   /// Whether input vertex v (coordinates p) lies on canonical plane c in the decomposition's
   /// model of the input, the rule every cut was decided with: by construction, or exactly
-  /// (orient3d on the support triple), or within the rounding guard of the plane (input
-  /// vertices only: a rotated body's coplanar faces). Cost O(log k) + one exact predicate.
+  /// (side()), or within the rounding guard of the plane (input vertices only: a rotated
+  /// body's coplanar faces). Cost O(log k) + one exact predicate.
   bool on(int c, int v, const Vec3& p) const;
-  /// Exact side of point p (orient3d on the support triple): Positive on the positive side.
+  /// Exact side of point p (orient3d on the support triple, or the sign of the exact
+  /// coefficients at p): Positive on the positive side.
   Sign side(int c, const Vec3& p) const;
-  /// Exact side moving along direction d goes to (orient_direction on the support triple).
+  /// Exact side moving along direction d goes to (orient_direction on the support triple, or
+  /// the sign of the exact normal's product with d).
   Sign side_along(int c, const Vec3& d) const;
   bool empty() const { return support.empty(); }
 };
@@ -86,6 +99,11 @@ struct InputPlanes {
 struct ExactConvex {
   std::vector<ExactPlane> faces;
   std::vector<std::pair<int, int>> edges;
+  /// Per face: the canonical plane (Decomposition::planes) it lies on exactly, or −1 (a face
+  /// through vertices only within rounding of one). Where an input vertex lies on a face in
+  /// the model (InputPlanes::on), so it does on the exact piece: what lets hidden lines end a
+  /// hidden part exactly at a vertex whose rounded coordinates are an ulp off the face.
+  std::vector<int> canonical;
 };
 
 struct Decomposition {
