@@ -389,15 +389,21 @@ void bind_body(py::module_& m) {
             std::string bytes(v.size() * 3 * sizeof(double), '\0');
             for (size_t i = 0; i < v.size(); ++i)
               std::memcpy(&bytes[i * 3 * sizeof(double)], v[i].data(), 3 * sizeof(double));
-            return py::make_tuple(1, py::bytes(bytes), faces_plain(b.body));
+            // Version 2: and the exact solid it rounds (Body::exact_solid_bytes(), empty if
+            // none), so that a worker decides on it as this process does.
+            return py::make_tuple(2, py::bytes(bytes), faces_plain(b.body), py::bytes(b.body.exact_solid_bytes()));
           },
           [](const py::tuple& state) {
-            if (state.size() != 3 || state[0].cast<int>() != 1) throw InvalidInput("Body: unknown pickle state");
+            const int version = state.size() >= 1 ? state[0].cast<int>() : 0;
+            if (!((version == 1 && state.size() == 3) || (version == 2 && state.size() == 4)))
+              throw InvalidInput("Body: unknown pickle state");
             const std::string bytes = state[1].cast<std::string>();
             std::vector<Vec3> v(bytes.size() / (3 * sizeof(double)));
             for (size_t i = 0; i < v.size(); ++i)
               std::memcpy(v[i].data(), &bytes[i * 3 * sizeof(double)], 3 * sizeof(double));
-            return PyBody{Body(std::move(v), faces_of(state[2])), SmoothSurface()};
+            Body body(std::move(v), faces_of(state[2]));
+            if (version == 2) body = body.with_exact_solid_bytes(state[3].cast<std::string>());
+            return PyBody{std::move(body), SmoothSurface()};
           }));
 
   // Primitives.

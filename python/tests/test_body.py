@@ -148,6 +148,13 @@ def test_pickle_round_trips_bit_for_bit():
     bodies = [hedra.prism(L_OUTLINE, z=(0, 2)).rotated((1, 2, 3), 37.5, about=(0.1, 0.2, 0.3)),
               hedra.sphere((0.1, 0.2, 0.3), 1 / 3, tolerance=1e-3),
               hedra.prism([[0, 0], [6, 0], [6, 4], [0, 4]], z=(0, 1), holes=[[[1, 1], [2, 1], [2, 3], [1, 3]]])]
+    # The exact solid travels too: a rotated Boolean's volume identity stays exact.
+    plate = hedra.box((-2, -2, 0), (2, 2, 1)).rotated((1, 2, 3), 37)
+    drill = hedra.cylinder(0.5, z=(-1, 2), tolerance=0.01).rotated((1, 2, 3), 37)
+    drilled = pickle.loads(pickle.dumps(hedra.subtract(plate, drill)))
+    assert drilled.has_exact_solid
+    assert hedra.exact_volume_sign([(1, drilled), (1, hedra.intersect(plate, drill)), (-1, plate)]) == 0
+    assert pickle.loads(pickle.dumps(plate)).has_exact_solid  # a pending image
     for b in bodies:
         c = pickle.loads(pickle.dumps(b))
         assert c.vertices.tobytes() == b.vertices.tobytes()

@@ -275,6 +275,24 @@ def test_scene_pickle_round_trip():
     assert without_ms(hedra.hidden_lines(t).to_json()) == without_ms(hedra.hidden_lines(s).to_json())
 
 
+def test_pickled_scene_keeps_the_exact_solids_of_its_bodies():
+    # A plate drilled after both operands were rotated rounds its corners; hidden lines and
+    # shadows clip against the pieces of its exact solid. A worker gets the scene as a pickle:
+    # the solid travels with the body (Body.__getstate__, version 2), so the worker decides as
+    # this process does, bit for bit; a body rebuilt from its vertices alone does not.
+    s = small_scene()
+    plate = hedra.box((2, -3, 0), (6, 1, 1)).rotated((1, 2, 3), 17, about=(4, -1, 0.5))
+    drill = hedra.cylinder(0.5, z=(-1, 2), tolerance=0.01).translated((4, -1, 0)).rotated((1, 2, 3), 17, about=(4, -1, 0.5))
+    s.add("plate", hedra.subtract(plate, drill))
+    t = pickle.loads(pickle.dumps(s))
+    assert t.bodies["plate"].has_exact_solid
+    assert without_ms(hedra.shadows(t).to_json()) == without_ms(hedra.shadows(s).to_json())
+    assert without_ms(hedra.hidden_lines(t).to_json()) == without_ms(hedra.hidden_lines(s).to_json())
+    bare = small_scene()
+    bare.add("plate", hedra.Body(s.bodies["plate"].vertices, s.bodies["plate"].faces))
+    assert not bare.bodies["plate"].has_exact_solid
+
+
 def test_threads_call_hedra_concurrently():
     from concurrent.futures import ThreadPoolExecutor
     s = small_scene()

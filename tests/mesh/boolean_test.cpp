@@ -7,6 +7,7 @@
 #include <random>
 
 #include "hedra/mesh/convexity.h"
+#include "hedra/decompose/decompose.h"
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
 
@@ -239,6 +240,51 @@ TEST(Boolean, ResultsKeepTheirExactSolid) {
   expect_volumes_add_up(mirrored, cutter);
   // A perspective map is not exact on rationals here: the body comes back without a solid.
   EXPECT_FALSE(drilled->translated({0, 0, -5}).transformed(Transform::perspective(10)).has_exact_solid());
+}
+
+// Body::exact_solid_bytes / with_exact_solid_bytes: what a process boundary (Python's pickle,
+// the distributed engine) carries so that a body rebuilt there from its vertices and faces is
+// decided on as here. Checked by the exact volume identity (exactly zero with the solid only),
+// by the decomposition (from the solid, the same pieces bit for bit), for a made solid (a
+// Boolean of rotated operands, rational corners), a pending image (a rotated L) and a Boolean
+// whose body dropped points (ExactSolid::body_vertex); and by bytes that are not the format.
+TEST(Boolean, ExactSolidBytesCarryTheSolidAcrossARebuild) {
+  const Transform turn = Transform::rotation(Vec3(1, 2, 3), 37);
+  const Body plate = box({-2, -2, 0}, {2, 2, 1}).transformed(turn);
+  const Body drill = cylinder(0.5, -1, 2, 0.01).transformed(turn);
+  const Body drilled = *subtract(plate, drill);
+  const Body common = *intersect(plate, drill);
+  const Body l = prism({{0, 0}, {4, 0}, {4, 1}, {1, 1}, {1, 3}, {0, 3}}, 0, 2).transformed(turn);
+  const Body notched = *subtract(box({0, 0, 0}, {4, 4, 4}), box({1, 1, 3}, {3, 5, 5}).transformed(turn));
+  for (const Body* b : {&drilled, &l, &notched}) {
+    ASSERT_TRUE(b->has_exact_solid());
+    const std::string bytes = b->exact_solid_bytes();
+    ASSERT_FALSE(bytes.empty());
+    const Body bare(b->vertices(), b->faces());
+    EXPECT_TRUE(bare.exact_solid_bytes().empty());
+    const Body back = bare.with_exact_solid_bytes(bytes);
+    ASSERT_TRUE(back.has_exact_solid());
+    EXPECT_FALSE(bare.has_exact_solid());  // a new body; the bare one is unchanged
+    EXPECT_EQ(back.exact_solid_bytes(), bytes);
+    DecomposeOptions options;
+    options.exact_pieces = true;
+    const Decomposition d0 = decompose(*b, options), d1 = decompose(back, options);
+    EXPECT_EQ(d0.from_exact_solid, d1.from_exact_solid);
+    ASSERT_EQ(d0.pieces.size(), d1.pieces.size());
+    for (size_t k = 0; k < d0.pieces.size(); ++k) EXPECT_EQ(d0.pieces[k].vertices(), d1.pieces[k].vertices());
+  }
+  const Body rebuilt = Body(drilled.vertices(), drilled.faces()).with_exact_solid_bytes(drilled.exact_solid_bytes());
+  EXPECT_EQ(exact_volume_sign({{1, rebuilt}, {1, common}, {-1, plate}}), Sign::Zero);
+  EXPECT_NE(exact_volume_sign({{1, Body(drilled.vertices(), drilled.faces())}, {1, common}, {-1, plate}}), Sign::Zero);
+  // Not the format, truncated, trailing bytes, another body: InvalidInput, the body unchanged.
+  const std::string bytes = drilled.exact_solid_bytes();
+  const Body bare(drilled.vertices(), drilled.faces());
+  EXPECT_THROW(bare.with_exact_solid_bytes("HXS0" + bytes.substr(4)), InvalidInput);
+  EXPECT_THROW(bare.with_exact_solid_bytes(bytes.substr(0, bytes.size() / 2)), InvalidInput);
+  EXPECT_THROW(bare.with_exact_solid_bytes(bytes + "x"), InvalidInput);
+  EXPECT_THROW(box({0, 0, 0}, {1, 1, 1}).with_exact_solid_bytes(bytes), InvalidInput);
+  EXPECT_THROW(box({0, 0, 0}, {1, 1, 1}).with_exact_solid_bytes(l.exact_solid_bytes()), InvalidInput);
+  EXPECT_EQ(bare.with_exact_solid_bytes("").has_exact_solid(), false);
 }
 
 TEST(Boolean, RandomRotationsOfCurvedOperands) {

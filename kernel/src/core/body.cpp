@@ -577,6 +577,36 @@ bool Body::two_sided() const { return impl_->two_sided; }
 
 const std::shared_ptr<const internal::ExactSolid>& Body::exact_solid() const { return impl_->exact; }
 
+std::string Body::exact_solid_bytes() const {
+  return impl_->exact ? internal::exact_solid_bytes(*impl_->exact) : std::string();
+}
+
+Body Body::with_exact_solid_bytes(std::string_view bytes) const {
+  if (bytes.empty()) return *this;
+  std::shared_ptr<const internal::ExactSolid> solid = internal::exact_solid_from_bytes(bytes, *this);
+  // The same geometry with the solid: a copy of the derived data (the solid is part of a
+  // body's value, so a shared impl cannot take it).
+  const Impl& from = *impl_;
+  auto impl = std::make_shared<Impl>();
+  impl->vertices = from.vertices;
+  impl->faces = from.faces;
+  impl->edges = from.edges;
+  impl->planes = from.planes;
+  impl->supports = from.supports;
+  impl->triangles = from.triangles;
+  impl->face_areas = from.face_areas;
+  impl->matrix = from.matrix;
+  impl->bbox = from.bbox;
+  impl->scale = from.scale;
+  impl->volume = from.volume;
+  impl->area = from.area;
+  impl->centroid = from.centroid;
+  impl->two_sided = from.two_sided;
+  impl->exact = std::move(solid);
+  impl->convexity.store(from.convexity.load(std::memory_order_relaxed), std::memory_order_relaxed);
+  return Body(std::shared_ptr<const Impl>(std::move(impl)));
+}
+
 namespace internal {
 void attach_exact_solid(Body& body, std::shared_ptr<const ExactSolid> solid) {
   HEDRA_ASSERT(body.impl_.use_count() == 1, "attach_exact_solid: the body is shared");

@@ -1,6 +1,14 @@
 #include "core/exact_solid.h"
 
+#include <gmpxx.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <utility>
+
+#include "hedra/core/error.h"
 
 #include "hedra/core/predicates.h"
 
@@ -78,6 +86,152 @@ std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transfor
   out->rounded = false;  // a moved double body, as any other (ExactSolid::rounded)
   out->pending = ExactSolid::Pending{std::make_shared<const std::vector<Vec3>>(body.vertices()), std::move(triangles),
                                      {t.matrix()}, t.linear_determinant() < 0};
+  return out;
+}
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "exact solid bytes are written little-endian");
+
+struct Writer {
+  std::string out;
+  template <class T>
+  void put(const T& x) {
+    out.append(reinterpret_cast<const char*>(&x), sizeof x);
+  }
+  void text(const std::string& s) {
+    put(static_cast<std::uint32_t>(s.size()));
+    out += s;
+  }
+  void triangles(const std::vector<ExactSolid::Tri>& t) {
+    put(static_cast<std::uint64_t>(t.size()));
+    for (const ExactSolid::Tri& x : t) {
+      for (int v : x.v) put(static_cast<std::int32_t>(v));
+      put(static_cast<std::int32_t>(x.face));
+    }
+  }
+};
+
+struct Reader {
+  std::string_view in;
+  size_t at = 0;
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InvalidInput("exact solid bytes: " + what + " at byte " + std::to_string(at));
+  }
+  template <class T>
+  T get() {
+    if (in.size() - at < sizeof(T)) fail("truncated");
+    T x;
+    std::memcpy(&x, in.data() + at, sizeof x);
+    at += sizeof x;
+    return x;
+  }
+  // A count of items of `size` bytes each that must fit in what is left.
+  size_t count(size_t size) {
+    const auto n = get<std::uint64_t>();
+    if (n > (in.size() - at) / size) fail("a count beyond the bytes left");
+    return static_cast<size_t>(n);
+  }
+  std::string text() {
+    const auto n = get<std::uint32_t>();
+    if (n > in.size() - at) fail("truncated");
+    std::string s(in.substr(at, n));
+    at += n;
+    return s;
+  }
+  std::vector<ExactSolid::Tri> triangles(size_t points, int faces) {
+    std::vector<ExactSolid::Tri> t(count(16));
+    for (ExactSolid::Tri& x : t) {
+      for (int& v : x.v) {
+        v = get<std::int32_t>();
+        if (v < 0 || static_cast<size_t>(v) >= points) fail("a corner index out of range");
+      }
+      x.face = get<std::int32_t>();
+      if (x.face < 0 || x.face >= faces) fail("a face index out of range");
+    }
+    return t;
+  }
+};
+
+}  // namespace
+
+std::string exact_solid_bytes(const ExactSolid& solid) {
+  Writer w;
+  w.out = "HXS1";
+  w.put(static_cast<std::uint8_t>(solid.rounded));
+  w.put(static_cast<std::uint8_t>(solid.pending.has_value()));
+  if (solid.pending) {
+    const ExactSolid::Pending& p = *solid.pending;
+    w.put(static_cast<std::uint64_t>(p.corners->size()));
+    for (const Vec3& c : *p.corners) w.put(c);
+    w.triangles(*p.triangles);
+    w.put(static_cast<std::uint64_t>(p.maps.size()));
+    for (const Mat4& m : p.maps)
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) w.put(m(r, c));
+    w.put(static_cast<std::uint8_t>(p.reflected));
+    return std::move(w.out);
+  }
+  w.put(static_cast<std::uint64_t>(solid.points.size()));
+  for (const P3& q : solid.points) {
+    const auto& e = CGAL::exact(q);
+    for (const auto& x : {e.x(), e.y(), e.z()}) w.text(x.get_str(16));
+  }
+  w.triangles(solid.triangles);
+  w.put(static_cast<std::uint64_t>(solid.body_vertex.size()));
+  for (int v : solid.body_vertex) w.put(static_cast<std::int32_t>(v));
+  return std::move(w.out);
+}
+
+std::shared_ptr<const ExactSolid> exact_solid_from_bytes(std::string_view bytes, const Body& body) {
+  Reader r{bytes};
+  if (bytes.substr(0, 4) != "HXS1") r.fail("not hedra's exact solid format 1");
+  r.at = 4;
+  auto out = std::make_shared<ExactSolid>();
+  out->rounded = r.get<std::uint8_t>() != 0;
+  const bool pending = r.get<std::uint8_t>() != 0;
+  const size_t vertices = static_cast<size_t>(body.vertex_count());
+  if (pending) {
+    ExactSolid::Pending p;
+    auto corners = std::make_shared<std::vector<Vec3>>(r.count(24));
+    if (corners->size() != vertices) r.fail("a pending image of another body (" + std::to_string(corners->size()) + " corners)");
+    for (Vec3& c : *corners) {
+      c = r.get<Vec3>();
+      if (!c.allFinite()) r.fail("a corner not finite");
+    }
+    p.triangles = std::make_shared<const std::vector<ExactSolid::Tri>>(r.triangles(corners->size(), body.face_count()));
+    p.corners = std::move(corners);
+    p.maps.resize(r.count(128));
+    for (Mat4& m : p.maps)
+      for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 4; ++j) {
+          m(i, j) = r.get<double>();
+          if (!std::isfinite(m(i, j))) r.fail("a map not finite");
+        }
+    p.reflected = r.get<std::uint8_t>() != 0;
+    out->pending = std::move(p);
+  } else {
+    out->points.reserve(r.count(12));
+    const size_t n = out->points.capacity();
+    for (size_t i = 0; i < n; ++i) {
+      mpq_class c[3];
+      for (mpq_class& x : c) {
+        const std::string t = r.text();
+        if (t.empty() || x.set_str(t, 16) != 0 || sgn(x.get_den()) <= 0) r.fail("a corner that is not a rational");
+        x.canonicalize();
+      }
+      out->points.emplace_back(ExactKernel::FT(c[0]), ExactKernel::FT(c[1]), ExactKernel::FT(c[2]));
+    }
+    out->triangles = r.triangles(out->points.size(), body.face_count());
+    out->body_vertex.resize(r.count(4));
+    for (int& v : out->body_vertex) {
+      v = r.get<std::int32_t>();
+      if (v < -1 || v >= body.vertex_count()) r.fail("a body vertex out of range");
+    }
+    if (!out->body_vertex.empty() && out->body_vertex.size() != out->points.size()) r.fail("a vertex map of another size");
+    if (out->body_vertex.empty() && out->points.size() != vertices) r.fail("a solid of another body");
+  }
+  if (r.at != bytes.size()) r.fail("bytes after the end");
   return out;
 }
 

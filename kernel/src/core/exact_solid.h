@@ -12,6 +12,8 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "hedra/core/body.h"
@@ -76,6 +78,17 @@ std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Tra
 /// sphere's quadrilaterals). \pre t.is_affine(). Cost O(corners of the faces that are not
 /// triangles) exact orientation tests.
 std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transform& t);
+
+/// The solid as bytes (Body::exact_solid_bytes()), and back for `body`, a body with the same
+/// vertices and faces as the one written: "HXS1", then whether the Boolean rounded a corner and
+/// whether the solid is pending; a pending image as its first body's double corners,
+/// triangles, maps (16 doubles each) and whether they reflect; a made solid as its corners (three
+/// exact rationals each, as text in base 16), triangles and ExactSolid::body_vertex. Counts are
+/// 64-bit, indices 32-bit, all little-endian. Reading checks every count against what is left
+/// and every index against the solid's points and `body`'s vertices and faces.
+/// \throw InvalidInput (reading). Cost O(n).
+std::string exact_solid_bytes(const ExactSolid& solid);
+std::shared_ptr<const ExactSolid> exact_solid_from_bytes(std::string_view bytes, const Body& body);
 
 /// Six times the exact volume: of the body's exact solid where it carries one, else of its
 /// triangles with their double corners. Cost O(T) exact operations.

@@ -5,6 +5,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -169,6 +170,17 @@ class Body {
   bool has_exact_solid() const { return exact_solid() != nullptr; }
   /// The exact solid itself, for hedra's own layers (its type is private); null if none.
   const std::shared_ptr<const internal::ExactSolid>& exact_solid() const;
+  /// The exact solid as bytes (empty if none), for a process boundary (Python's pickle, the
+  /// distributed engine): a body rebuilt from its vertices and faces in another process gets it
+  /// back with with_exact_solid_bytes(), so that what is decided on the solid there (the
+  /// decomposition hidden lines and shadows clip against) is decided as here. A pending image
+  /// stays pending (the first body's double corners and the maps); a made solid's corners are
+  /// written as exact rationals. Cost O(n).
+  std::string exact_solid_bytes() const;
+  /// This body with the exact solid of `bytes` (exact_solid_bytes() of a body with the same
+  /// vertices and faces); empty bytes: the body as it is. \throw InvalidInput where the bytes
+  /// are not such (truncated, another format, indices out of this body's range). Cost O(n).
+  Body with_exact_solid_bytes(std::string_view bytes) const;
   /// A two-sided body's face on the other side of face f: f ± face_count() / 2.
   int twin_face(int f) const;
 
