@@ -665,6 +665,18 @@ TEST(Decompose, ARotatedStarPrismWhoseCutsMultiplyIsCutFromItsExactImage) {
   const Decomposition s = decompose(small, options);
   EXPECT_FALSE(s.from_exact_solid);
   EXPECT_EQ(s.pieces.size(), 9u);
+  // Its exact pieces fold by an ulp across the rotated quadrilaterals: some have no exact form.
+  int folded = 0;
+  for (const ExactConvex& e : s.exact_pieces) folded += e.faces.empty();
+  EXPECT_GT(folded, 0);
+  // Hidden lines and shadows prefer the image (DecomposeOptions::prefer_exact_solid): the same
+  // pieces, every one exactly convex.
+  options.prefer_exact_solid = true;
+  const Decomposition p = decompose(small, options);
+  EXPECT_TRUE(p.from_exact_solid);
+  EXPECT_TRUE(p.verified);
+  EXPECT_EQ(p.pieces.size(), 9u);
+  for (const ExactConvex& e : p.exact_pieces) EXPECT_GE(e.faces.size(), 4u);
 }
 
 TEST(DecomposeFloat32, RotatedPartsDecomposeExactlyAndRoundOnce) {

@@ -1127,7 +1127,7 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
     }
     return std::nullopt;
   };
-  if (solid_usable && exact_solid->rounded)
+  if (solid_usable && (exact_solid->rounded || options.prefer_exact_solid))
     if (std::optional<Decomposition> out = from_solid()) return std::move(*out);
   size_t budget = solid_usable && !exact_solid->rounded ? 2 * body.vertices().size() + 1024 : 0;
   for (bool simplified : {true, false}) {

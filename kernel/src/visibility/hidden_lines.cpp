@@ -243,6 +243,7 @@ void Roberts::prepare_bodies() {
       try {
         DecomposeOptions decompose_options;
         decompose_options.exact_pieces = true;
+        decompose_options.prefer_exact_solid = true;  // a moved body: every piece exactly convex
         if (meter_.active())
           decompose_options.progress = [this](int, int) {
             meter_.add(0);  // reports on the caller's thread, throws once cancelled

@@ -216,6 +216,7 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       try {
         DecomposeOptions options;
         options.exact_pieces = true;
+        options.prefer_exact_solid = true;  // a moved body: every piece exactly convex
         Decomposition d = decompose(bd.body, options);
         pieces[b] = std::move(d.pieces);
         exact_planes[b] = std::move(d.piece_planes);
