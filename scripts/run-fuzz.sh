@@ -14,7 +14,7 @@ build=${1:-build-fuzz}
 seconds=${2:-60}
 shift 2 || true
 targets=("$@")
-if [ ${#targets[@]} -eq 0 ]; then targets=(stl obj off ply scene segments commands); fi
+if [ ${#targets[@]} -eq 0 ]; then targets=(stl obj off ply scene segments commands solid); fi
 seed_option=()
 if [ "${HEDRA_FUZZ_SEED:-0}" != 0 ]; then seed_option=(-seed="$HEDRA_FUZZ_SEED"); fi
 mkdir -p "$build/findings"
