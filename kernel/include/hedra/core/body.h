@@ -178,8 +178,10 @@ class Body {
   /// written as exact rationals. Cost O(n).
   std::string exact_solid_bytes() const;
   /// This body with the exact solid of `bytes` (exact_solid_bytes() of a body with the same
-  /// vertices and faces); empty bytes: the body as it is. \throw InvalidInput where the bytes
-  /// are not such (truncated, another format, indices out of this body's range). Cost O(n).
+  /// vertices and faces); empty bytes: the body as it is. The structure is checked, not that
+  /// the solid is this body's rounding: the bytes are trusted as a pickle is (fuzz target
+  /// `solid`). \throw InvalidInput where the bytes are not such (truncated, another format,
+  /// counts beyond the bytes, indices out of this body's range). Cost O(n).
   Body with_exact_solid_bytes(std::string_view bytes) const;
   /// A two-sided body's face on the other side of face f: f ± face_count() / 2.
   int twin_face(int f) const;
