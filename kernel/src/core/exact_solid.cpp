@@ -196,7 +196,8 @@ std::shared_ptr<const ExactSolid> exact_solid_from_bytes(std::string_view bytes,
     auto corners = std::make_shared<std::vector<Vec3>>(r.count(24));
     if (corners->size() != vertices) r.fail("a pending image of another body (" + std::to_string(corners->size()) + " corners)");
     for (Vec3& c : *corners) {
-      c = r.get<Vec3>();
+      const double x = r.get<double>(), y = r.get<double>(), z = r.get<double>();  // in this order
+      c = Vec3(x, y, z);
       if (!c.allFinite()) r.fail("a corner not finite");
     }
     p.triangles = std::make_shared<const std::vector<ExactSolid::Tri>>(r.triangles(corners->size(), body.face_count()));
