@@ -731,8 +731,12 @@ std::optional<ExactConvex> exact_convex(const Context& ctx, const InputPlanes& m
         // Sign +1: the piece lies on the plane's negative side, which is through()'s positive.
         // A plane through no three input vertices (the faces of an exact solid) from its
         // exact coefficients, negated where the piece lies on its negative side.
-        if (sp[0] == sp[1]) {
-          out.faces.push_back(plane_of_lazy(ctx.planes[static_cast<size_t>(tri.plane)], tri.sign > 0));
+        const size_t c = static_cast<size_t>(tri.plane);
+        if (sp[0] == sp[1] && c < model.exact.size() && model.exact[c].by_exact()) {
+          // Made once per plane for the model (run()): shared by every piece on it.
+          out.faces.push_back(tri.sign > 0 ? model.exact[c].flipped() : model.exact[c]);
+        } else if (sp[0] == sp[1]) {
+          out.faces.push_back(plane_of_lazy(ctx.planes[c], tri.sign > 0));
         } else {
           const ExactPlane f = ExactPlane::through(sp[0], sp[1], sp[2]);
           out.faces.push_back(tri.sign > 0 ? f : f.flipped());
