@@ -98,7 +98,8 @@ def test_curved_primitives_against_analytic_values():
     assert math.isclose(c.volume, 0.5 * n * r * r * math.sin(2 * math.pi / n) * h, rel_tol=1e-12)
     assert c.is_smooth and c.is_convex
     s = hedra.sphere((1, 2, 3), 1.5, tolerance=0.01)
-    np.testing.assert_allclose(np.linalg.norm(s.vertices - [1, 2, 3], axis=1), 1.5, rtol=1e-14)
+    # Within 2^-23 of the radius: snapped so that every quadrilateral is exactly planar.
+    np.testing.assert_allclose(np.linalg.norm(s.vertices - [1, 2, 3], axis=1), 1.5, rtol=2.0**-23)
     assert s.volume < 4 / 3 * math.pi * 1.5 ** 3
     k = hedra.cone(1.0, z=(0, 2), tolerance=0.02)
     assert k.vertex_count == k.face_count  # n base vertices + apex; n sides + base
@@ -123,11 +124,13 @@ def test_boolean_results_keep_their_exact_solid():
     drill = hedra.cylinder(0.5, z=(-1, 2), tolerance=0.01).rotated((1, 2, 3), 37)
     drilled, plug = hedra.subtract(plate, drill), hedra.intersect(plate, drill)
     assert drilled.has_exact_solid and plug.has_exact_solid
-    # A moved box is the exact image of its corners; a box in place, and a moved sphere (its
-    # quadrilaterals planar only within rounding), keep no exact solid.
+    # A moved box, and a moved sphere (its quadrilaterals exactly planar), are the exact images
+    # of their corners; a box in place, and a moved body whose quadrilaterals are planar only
+    # within rounding (the moved box's rounded corners), keep no exact solid.
     assert plate.has_exact_solid
+    assert hedra.sphere((0, 0, 0), 1).rotated((1, 2, 3), 37).has_exact_solid
     assert not hedra.box((0, 0, 0), (1, 1, 1)).has_exact_solid
-    assert not hedra.sphere((0, 0, 0), 1).rotated((1, 2, 3), 37).has_exact_solid
+    assert not hedra.Body(plate.vertices, plate.faces).rotated((3, 1, 2), 20).has_exact_solid
     assert hedra.exact_volume_sign([(1, drilled), (1, plug), (-1, plate)]) == 0
     assert hedra.exact_volume_sign([(1, drilled)]) == 1
     rounded = hedra.Body(drilled.vertices, drilled.faces)

@@ -6,6 +6,8 @@
 #include <numbers>
 
 #include "hedra/core/error.h"
+#include "hedra/core/predicates.h"
+#include "hedra/mesh/convexity.h"
 
 namespace hedra {
 namespace {
@@ -94,6 +96,34 @@ TEST(Primitives, SphereMeetsChordalToleranceWithFewestBands) {
     EXPECT_LT(std::abs(s.volume() - 4.0 / 3 * kPi * r * r * r), 4.0 * kPi * r * r * tol);
     EXPECT_LT((s.centroid() - Vec3(1, 2, 3)).norm(), 1e-12);
   }
+}
+
+// Issue 14 ("exact inside"): a latitude–longitude sphere with vertices rounded to the sphere
+// had quadrilaterals planar only within rounding, so its exact image was no polyhedron, and a
+// Boolean with it had no exactly planar solid. Reference: exact orientation tests on every
+// quadrilateral's fourth corner, and exact convexity.
+TEST(Primitives, SphereFacesAreExactlyPlanarAndItIsExactlyConvex) {
+  for (double tol : {0.1, 0.01, 1e-3, 1e-4}) {
+    const double r = 1.7;
+    const Body s = sphere({0, 0, 0}, r, tol);
+    int quads = 0;
+    for (const Face& f : s.faces()) {
+      const auto& l = f.loops[0];
+      if (l.size() != 4) continue;
+      ++quads;
+      const auto& v = s.vertices();
+      ASSERT_EQ(orient3d(v[l[0]], v[l[1]], v[l[2]], v[l[3]]), Sign::Zero) << "tolerance " << tol;
+    }
+    EXPECT_GT(quads, 0);
+    for (const Vec3& p : s.vertices()) EXPECT_NEAR(p.norm(), r, kSphereSnap * r);
+    EXPECT_TRUE(is_convex(s));
+    // Symmetric to the bit: the centroid is the centre.
+    EXPECT_LT(s.centroid().norm(), 1e-15);
+  }
+  // About another centre: the rounding of the translated corners, with the exact image of the
+  // planar sphere (what Booleans and the exact decompositions use).
+  EXPECT_TRUE(sphere({1, 2, 3}, 1.7, 0.01).has_exact_solid());
+  EXPECT_FALSE(sphere({0, 0, 0}, 1.7, 0.01).has_exact_solid());
 }
 
 }  // namespace

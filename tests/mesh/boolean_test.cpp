@@ -213,10 +213,14 @@ TEST(Boolean, ResultsKeepTheirExactSolid) {
   const Body drill = cylinder(0.5, -1, 2, 0.01).transformed(Transform::rotation(Vec3(1, 2, 3), 37));
   std::optional<Body> drilled = subtract(plate, drill);
   ASSERT_TRUE(drilled && drilled->has_exact_solid());
-  // The rotated box is the exact image of the box's corners (its faces are exactly planar);
-  // the sphere's quadrilaterals are planar only within rounding, so its image is not kept.
+  // The rotated box is the exact image of the box's corners (its faces are exactly planar),
+  // and so is a rotated sphere (its quadrilaterals are exactly planar about its centre); a
+  // body whose quadrilaterals are planar only within rounding (the rotated box's rounded
+  // corners) has no exact image.
   EXPECT_TRUE(plate.has_exact_solid());
-  EXPECT_FALSE(sphere({0, 0, 0}, 1, 0.05).transformed(Transform::rotation(Vec3(1, 2, 3), 37)).has_exact_solid());
+  EXPECT_TRUE(sphere({0, 0, 0}, 1, 0.05).transformed(Transform::rotation(Vec3(1, 2, 3), 37)).has_exact_solid());
+  const Body rounded_plate(plate.vertices(), plate.faces());
+  EXPECT_FALSE(rounded_plate.transformed(Transform::rotation(Vec3(3, 1, 2), 20)).has_exact_solid());
   EXPECT_FALSE(box({0, 0, 0}, {1, 1, 1}).has_exact_solid());  // its corners are its own
   // Rounded: the volume differs from the exact one, so the identity fails on the rounding of
   // the drilled plate (what a Boolean without its exact solid would have given).

@@ -867,11 +867,12 @@ TEST(RobertsImageSpace, ZBufferErrsAtTransitionsAndShrinksWithThePixel) {
 namespace hedra {
 namespace {
 
-// The triangulated sphere of Shadows.TriangulatedSphereCastsTheShadowOfItsConvexTwin (exactly
-// non-convex by ulps, above kFaceOccluderFaces faces: it occludes by its faces) is drawn as its
-// convex twin: the same visible edges and outline, in parallel and perspective views.
+// The triangulated sphere of Shadows.TriangulatedSphereCastsTheShadowOfItsConvexTwin (rotated
+// and rounded: exactly non-convex by ulps, above kFaceOccluderFaces faces: it occludes by its
+// faces) is drawn as its convex twin: the same visible edges and outline, in parallel and
+// perspective views.
 TEST(Roberts, TriangulatedSphereIsDrawnAsItsConvexTwin) {
-  const Body ball = sphere({0, 0, 2}, 1.5, 1e-3);
+  const Body ball = sphere({0, 0, 2}, 1.5, 1e-3).transformed(Transform::rotation({1, 2, 3}, 37, {0, 0, 2}));
   std::vector<Face> faces;
   for (const Triangle& t : ball.triangles()) faces.emplace_back(std::vector<int>{t.v[0], t.v[1], t.v[2]});
   const Body mesh(ball.vertices(), std::move(faces));

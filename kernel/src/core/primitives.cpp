@@ -252,21 +252,54 @@ Body cone(double radius, double z0, double z1, double tolerance, int max_faces) 
 
 namespace {
 
+// `x` rounded to nearest with `bits` significant bits (exact for |x| below 2^1000).
+double with_bits(double x, int bits) {
+  if (x == 0) return 0;
+  int e = 0;
+  std::frexp(x, &e);
+  return std::ldexp(std::nearbyint(std::ldexp(x, bits - e)), e - bits);
+}
+
 // Vertices and faces of the latitude–longitude sphere with `rings` bands and 2·rings
-// meridians, about the origin.
-void sphere_mesh(double r, int rings, std::vector<Vec3>& v, std::vector<Face>& faces) {
+// meridians, about the origin. Every quadrilateral is exactly planar: ring i's vertices are
+// (c_i·C_j, c_i·S_j, z_i) with c_i = r·cos φ_i rounded to 27 significant bits and the
+// meridian directions (C_j, S_j) = (cos λ_j, sin λ_j) rounded to 26, so that every product is
+// a double exactly; the four corners of a band's face then lie on lines (ρ, z) of one profile
+// line through the two meridian directions, a plane, whatever the rounding of c, C and S
+// (docs/primitives.md). Each vertex is within r·2^-25 of the sphere (kSphereSnap); the
+// coordinates keep the sphere's symmetries exactly (mirrored, not computed again).
+void sphere_mesh(double r, int rings, bool snapped, std::vector<Vec3>& v, std::vector<Face>& faces) {
   const int m = 2 * rings;
+  const int trig_bits = snapped ? 26 : 53, radial_bits = snapped ? 27 : 53;
+  std::vector<double> C(static_cast<size_t>(m)), S(static_cast<size_t>(m));
+  for (int j = 0; 4 * j <= m; ++j) {  // the first quadrant, then its mirror images
+    const double lambda = 2 * kPi * j / m;
+    const double c = 4 * j == m ? 0 : with_bits(std::cos(lambda), trig_bits);
+    const double s = j == 0 ? 0 : with_bits(std::sin(lambda), trig_bits);
+    const int mirrored[4] = {j, rings - j, rings + j, m - j};
+    const double nc = c == 0 ? 0.0 : -c, ns = s == 0 ? 0.0 : -s;  // no −0
+    const double cs[4][2] = {{c, s}, {nc, s}, {nc, ns}, {c, ns}};
+    for (int k = 0; k < 4; ++k) {
+      const int at = mirrored[k] % m;
+      C[static_cast<size_t>(at)] = cs[k][0];
+      S[static_cast<size_t>(at)] = cs[k][1];
+    }
+  }
+  std::vector<double> ring_c(static_cast<size_t>(rings)), ring_z(static_cast<size_t>(rings));
+  for (int i = 1; 2 * i <= rings; ++i) {  // the southern half, then its mirror image
+    const double phi = -kPi / 2 + kPi * i / rings;
+    const double c = with_bits(r * std::cos(phi), radial_bits), z = 2 * i == rings ? 0 : r * std::sin(phi);
+    ring_c[static_cast<size_t>(i)] = ring_c[static_cast<size_t>(rings - i)] = c;
+    ring_z[static_cast<size_t>(i)] = z;
+    ring_z[static_cast<size_t>(rings - i)] = z == 0 ? 0.0 : -z;
+  }
   v.clear();
   faces.clear();
   v.emplace_back(0, 0, -r);
-  for (int i = 1; i < rings; ++i) {
-    double phi = -kPi / 2 + kPi * i / rings;
-    for (int j = 0; j < m; ++j) {
-      double lambda = 2 * kPi * j / m;
-      v.emplace_back(r * std::cos(phi) * std::cos(lambda), r * std::cos(phi) * std::sin(lambda),
-                     r * std::sin(phi));
-    }
-  }
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < m; ++j)
+      v.emplace_back(ring_c[static_cast<size_t>(i)] * C[static_cast<size_t>(j)],
+                     ring_c[static_cast<size_t>(i)] * S[static_cast<size_t>(j)], ring_z[static_cast<size_t>(i)]);
   v.emplace_back(0, 0, r);
   const int south = 0, north = static_cast<int>(v.size()) - 1;
   auto ring = [&](int i, int j) { return 1 + (i - 1) * m + (j % m); };
@@ -306,23 +339,34 @@ Body sphere(const Vec3& centre, double radius, double tolerance, int max_faces) 
   require(centre.allFinite(), "sphere centre is not finite");
   require(std::isfinite(radius) && radius > 0, "sphere radius must be positive");
   require_resolvable(radius, tolerance);
+  // Exactly planar faces (sphere_mesh) where the tolerance leaves room for the snap; below
+  // 2·kSphereSnap of the radius (a billion faces and more), the vertices on the sphere to the
+  // last bit and the quadrilaterals planar within rounding.
+  const bool snapped = tolerance >= 2 * kSphereSnap * radius;
+  const double snap = snapped ? kSphereSnap * radius : 0;
   // 2·rings² faces: the most rings the budget allows.
   const int max_rings = std::max(2, static_cast<int>(std::sqrt(std::max(max_faces, 8) / 2.0)));
   int rings = 2;
-  while (sphere_chordal_error(radius, rings) > tolerance) {
+  while (sphere_chordal_error(radius, rings) + snap > tolerance) {
     if (rings >= max_rings) {
       // The error falls as 1/rings²: the rings needed, estimated from the last count tried.
       const double needed = std::max<double>(
-          rings + 1, std::ceil(rings * std::sqrt(sphere_chordal_error(radius, rings) / tolerance)));
+          rings + 1, std::ceil(rings * std::sqrt(sphere_chordal_error(radius, rings) / (tolerance - snap))));
       require_budget("sphere", std::max(2 * needed * needed, max_faces + 1.0), tolerance, max_faces);
     }
     ++rings;
   }
   std::vector<Vec3> v;
   std::vector<Face> faces;
-  sphere_mesh(radius, rings, v, faces);
-  for (Vec3& p : v) p += centre;
-  return Body(std::move(v), std::move(faces));
+  sphere_mesh(radius, rings, snapped, v, faces);
+  if (centre == Vec3::Zero() || !snapped) {
+    for (Vec3& p : v) p += centre;
+    return Body(std::move(v), std::move(faces));
+  }
+  // Moved exactly: the body is the rounding of the translated corners, and keeps the exact
+  // image of the planar sphere about the origin (Body::exact_solid()), which Booleans and the
+  // exact decompositions of hidden lines and shadows use.
+  return Body(std::move(v), std::move(faces)).transformed(Transform::translation(centre));
 }
 
 }  // namespace hedra

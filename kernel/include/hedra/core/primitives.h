@@ -70,15 +70,25 @@ Body cylinder(double radius, double z0, double z1, double tolerance,
 /// most `tolerance`. \throw FaceBudgetExceeded beyond `max_faces` faces.
 Body cone(double radius, double z0, double z1, double tolerance, int max_faces = kDefaultMaxFaces);
 
+/// How far sphere() may move a vertex off the sphere, relative to the radius, so that every
+/// face is exactly planar (2^-23).
+constexpr double kSphereSnap = 1.0 / (1 << 23);
+
 /// Sphere of radius r about `centre`: latitude–longitude polyhedron (quad bands, triangle
-/// fans at the poles) with all vertices on the sphere and the fewest bands for which the
-/// largest distance from the sphere to the polyhedron is at most `tolerance`.
+/// fans at the poles) with the fewest bands for which the largest distance from the sphere to
+/// the polyhedron is at most `tolerance`. Every face is exactly planar: the vertices are
+/// within kSphereSnap·r of the sphere, their coordinates about the centre rounded so that
+/// each band's quadrilaterals are planar in exact arithmetic (docs/primitives.md); a sphere
+/// about another centre is that one moved exactly (its rounded corners are planar within
+/// rounding, its Body::exact_solid() exactly). Below a tolerance of 2·kSphereSnap·r the
+/// vertices lie on the sphere to the last bit and the faces are planar within rounding.
 /// \throw FaceBudgetExceeded beyond `max_faces` faces (2·rings² faces), InvalidInput below
 /// kMinRelativeTolerance·radius. Cost O(rings²) to choose the rings.
 Body sphere(const Vec3& centre, double radius, double tolerance, int max_faces = kDefaultMaxFaces);
 
-/// The chordal error the sphere() tessellation with `rings` latitude bands (and 2·rings
-/// meridians) has: the largest distance from the sphere to any face plane.
+/// The chordal error of the ideal latitude–longitude tessellation with `rings` latitude bands
+/// (and 2·rings meridians, every vertex on the sphere): the largest distance from the sphere
+/// to any face plane. sphere() adds kSphereSnap·r for its snapped vertices.
 double sphere_chordal_error(double radius, int rings);
 
 }  // namespace hedra
