@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "testing/decomposition_suite.h"
@@ -528,6 +529,43 @@ TEST(Decompose, ExactPiecesAreThePlanesOfTheExactPieces) {
   EXPECT_GT(with, 200);
   EXPECT_GT(through_cut_points, 5);  // faces whose plane has multiprecision coefficients
   std::printf("%d faces through cut points\n", through_cut_points);
+}
+
+// Issue 14 ("exact inside"): a frustum's top corners are the base's moved a third of the way
+// to the apex; rounded, its sides were planar only within rounding, so a non-convex frustum
+// was cut with the rounding guard, with pieces that fold by ulps, and Booleans and moves took
+// the rounding. It keeps the exact frustum. Reference: the pyramid cut at z1 by a Boolean
+// (CGAL's corefinement), exactly the same volume.
+TEST(Decompose, NonConvexFrustumIsCutFromItsExactSolid) {
+  Polygon2 star;
+  for (int i = 0; i < 10; ++i) {
+    const double a = 2 * std::numbers::pi * i / 10, r = i % 2 ? 0.8 : 2;
+    star.emplace_back(r * std::cos(a), r * std::sin(a));
+  }
+  const Vec3 apex(0.3, 0.2, 3);
+  const Body f = frustum(star, 0, apex, 1);  // a third of the way: not a double
+  ASSERT_TRUE(f.has_exact_solid());
+  const std::optional<Body> cut = intersect(pyramid(star, 0, apex), box({-5, -5, -1}, {5, 5, 1}));
+  ASSERT_TRUE(cut);
+  EXPECT_EQ(exact_volume_sign({{1, f}, {-1, *cut}}), Sign::Zero);
+  // Its rounding alone is another solid.
+  const Body rounded(f.vertices(), f.faces());
+  EXPECT_NE(exact_volume_sign({{1, rounded}, {-1, *cut}}), Sign::Zero);
+  const size_t guarded_count = decompose(rounded).pieces.size();
+  EXPECT_FALSE(decompose(rounded).from_exact_solid);
+  for (const Body& body : {f, f.transformed(Transform::rotation({1, 2, 3}, 37))}) {
+    DecomposeOptions options;
+    options.verify = true;
+    options.exact_pieces = true;
+    options.prefer_exact_solid = true;
+    const Decomposition d = decompose(body, options);
+    EXPECT_TRUE(d.from_exact_solid);
+    EXPECT_TRUE(d.verified);
+    EXPECT_EQ(d.pieces.size(), guarded_count);  // the same cuts as on the rounding
+    ASSERT_EQ(d.exact_pieces.size(), d.pieces.size());
+    for (const ExactConvex& e : d.exact_pieces) EXPECT_GE(e.faces.size(), 4u);  // exactly convex
+    EXPECT_NEAR(total_volume(d.pieces), body.volume(), 1e-12 * body.volume());
+  }
 }
 
 // Regression: a Boolean's result was decomposed from its rounding. Where the result's exact

@@ -89,6 +89,33 @@ std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transfor
   return out;
 }
 
+void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1) {
+  using FT = ExactKernel::FT;
+  const auto& v = body.vertices();
+  const size_t k = v.size() / 2;
+  const FT s = (FT(z1) - FT(z0)) / (FT(apex.z()) - FT(z0));
+  auto solid = std::make_shared<ExactSolid>();
+  solid->rounded = false;
+  solid->points.reserve(v.size());
+  for (size_t i = 0; i < k; ++i) solid->points.emplace_back(v[i].x(), v[i].y(), v[i].z());
+  for (size_t i = 0; i < k; ++i) {
+    const FT x = FT(v[i].x()) + s * (FT(apex.x()) - FT(v[i].x()));
+    const FT y = FT(v[i].y()) + s * (FT(apex.y()) - FT(v[i].y()));
+    const auto &ex = CGAL::exact(x), &ey = CGAL::exact(y);
+    const double dx = CGAL::to_double(ex), dy = CGAL::to_double(ey);
+    if (ex == dx && ey == dy) {
+      solid->points.emplace_back(dx, dy, z1);  // a double exactly (see boolean.cpp)
+    } else {
+      solid->points.emplace_back(x, y, FT(z1));
+      solid->rounded = true;
+    }
+  }
+  if (!solid->rounded) return;
+  solid->triangles.reserve(body.triangles().size());
+  for (const Triangle& t : body.triangles()) solid->triangles.push_back({t.v, t.face});
+  attach_exact_solid(body, std::move(solid));
+}
+
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "exact solid bytes are written little-endian");

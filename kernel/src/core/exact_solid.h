@@ -52,8 +52,8 @@ struct ExactSolid {
   std::optional<Pending> pending;
   mutable std::once_flag once;
   mutable std::shared_ptr<const ExactSolid> made;  // the pending image, once materialized
-  /// Whether the Boolean that made this solid rounded a corner of its body (a corner here that
-  /// is not a double). Else the Boolean's body has this solid's corners exactly (the points only
+  /// Whether the Boolean (or the frustum()) that made this solid rounded a corner of its body
+  /// (a corner here that is not a double). Else the Boolean's body has this solid's corners exactly (the points only
   /// the solid keeps lie on straight edges between its faces), and an affine move of it is a
   /// moved double body like any other. Kept through affine moves.
   bool rounded = true;
@@ -78,6 +78,13 @@ std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Tra
 /// sphere's quadrilaterals). \pre t.is_affine(). Cost O(corners of the faces that are not
 /// triangles) exact orientation tests.
 std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transform& t);
+
+/// Attaches to a freshly built frustum (frustum(): vertices 0..k−1 its base at z0, k..2k−1
+/// its top at z1) the exact frustum: the top's corners are the base's moved towards `apex` by
+/// the fraction (z1 − z0)/(apex.z − z0) in exact arithmetic, which the body's top corners round
+/// (its sides are then planar only within rounding, the solid's exactly). Nothing where every
+/// exact corner is a double (the body is its solid). Cost O(k) exact operations.
+void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1);
 
 /// The solid as bytes (Body::exact_solid_bytes()), and back for `body`, a body with the same
 /// vertices and faces as the one written: "HXS1", then whether the Boolean rounded a corner and

@@ -8,6 +8,10 @@
 #include "hedra/core/error.h"
 
 namespace hedra {
+namespace internal {
+// core/exact_solid.h (CGAL's exact kernel, kept out of this translation unit).
+void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1);
+}  // namespace internal
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -197,7 +201,9 @@ Body frustum(const Polygon2& base, double z0, const Vec3& apex, double z1) {
     int j = (i + 1) % k;
     faces.push_back(Face{i, j, k + j, k + i});
   }
-  return Body(std::move(v), std::move(faces));
+  Body body(std::move(v), std::move(faces));
+  internal::attach_frustum_solid(body, apex, z0, z1);
+  return body;
 }
 
 namespace {

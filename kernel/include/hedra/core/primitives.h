@@ -49,6 +49,9 @@ Body pyramid(const Polygon2& base, double z0, const Vec3& apex);
 
 /// Frustum (truncated pyramid): the pyramid over `base` at z0 with apex `apex`, cut by the
 /// plane z = z1 strictly between z0 and apex.z(). Faces: base, top, then one side per edge.
+/// The top's corners are computed: where one is not a double, the body is their rounding
+/// (sides planar within rounding) and keeps the exact frustum (Body::exact_solid()), which
+/// Booleans, moves and the exact decompositions use.
 Body frustum(const Polygon2& base, double z0, const Vec3& apex, double z1);
 
 /// Regular n-gon prism about the z axis with circumradius r, first vertex at angle 0.
