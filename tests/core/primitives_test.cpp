@@ -7,6 +7,7 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/predicates.h"
+#include "hedra/mesh/boolean.h"
 #include "hedra/mesh/convexity.h"
 
 namespace hedra {
@@ -122,7 +123,13 @@ TEST(Primitives, SphereFacesAreExactlyPlanarAndItIsExactlyConvex) {
   }
   // About another centre: the rounding of the translated corners, with the exact image of the
   // planar sphere (what Booleans and the exact decompositions use).
-  EXPECT_TRUE(sphere({1, 2, 3}, 1.7, 0.01).has_exact_solid());
+  const Body moved = sphere({1, 2, 3}, 1.7, 0.01);
+  EXPECT_TRUE(moved.has_exact_solid());
+  // The same exact solid as the sphere about the origin moved by transformed().
+  const Body reference = sphere({0, 0, 0}, 1.7, 0.01).transformed(Transform::translation({1, 2, 3}));
+  EXPECT_EQ(moved.vertices(), reference.vertices());
+  EXPECT_EQ(exact_volume_sign({{1, moved}, {-1, reference}}), Sign::Zero);
+  EXPECT_NE(exact_volume_sign({{1, Body(moved.vertices(), moved.faces())}, {-1, reference}}), Sign::Zero);
   EXPECT_FALSE(sphere({0, 0, 0}, 1.7, 0.01).has_exact_solid());
 }
 

@@ -89,6 +89,17 @@ std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transfor
   return out;
 }
 
+void attach_translated_image(Body& body, std::vector<Vec3> corners, const Vec3& offset) {
+  auto triangles = std::make_shared<std::vector<ExactSolid::Tri>>();
+  triangles->reserve(body.triangles().size());
+  for (const Triangle& tri : body.triangles()) triangles->push_back({tri.v, tri.face});
+  auto out = std::make_shared<ExactSolid>();
+  out->rounded = false;  // a moved double body, as any other (ExactSolid::rounded)
+  out->pending = ExactSolid::Pending{std::make_shared<const std::vector<Vec3>>(std::move(corners)),
+                                     std::move(triangles), {Transform::translation(offset).matrix()}, false};
+  attach_exact_solid(body, std::move(out));
+}
+
 void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1) {
   using FT = ExactKernel::FT;
   const auto& v = body.vertices();

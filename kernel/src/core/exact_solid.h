@@ -86,6 +86,12 @@ std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transfor
 /// exact corner is a double (the body is its solid). Cost O(k) exact operations.
 void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1);
 
+/// Attaches to a freshly built body whose vertices are `corners` + `offset` rounded, and whose
+/// faces on `corners` are exactly planar (the caller's construction: sphere()), the pending
+/// exact image of `corners` translated by `offset`: what transformed() would attach, without
+/// a second body or the planarity tests. Cost O(n) copies.
+void attach_translated_image(Body& body, std::vector<Vec3> corners, const Vec3& offset);
+
 /// The solid as bytes (Body::exact_solid_bytes()), and back for `body`, a body with the same
 /// vertices and faces as the one written: "HXS1", then whether the Boolean rounded a corner and
 /// whether the solid is pending; a pending image as its first body's double corners,
