@@ -33,6 +33,7 @@ from ._hedra import (  # noqa: F401
     demo_scene,
     encode_png,
     exact_volume_sign,
+    frustum,
     hidden_lines,
     intersect,
     prism,

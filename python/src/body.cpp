@@ -423,6 +423,13 @@ void bind_body(py::module_& m) {
           return plain(pyramid(polygon_of(base, "base"), z0, vec3(apex, "apex")));
         },
         py::arg("base"), py::arg("z0"), py::arg("apex"));
+  m.def("frustum",
+        [](const py::handle& base, double z0, const py::handle& apex, double z1) {
+          return plain(frustum(polygon_of(base, "base"), z0, vec3(apex, "apex"), z1));
+        },
+        py::arg("base"), py::arg("z0"), py::arg("apex"), py::arg("z1"),
+        "The pyramid over `base` at z0 with apex `apex`, cut at z1 between them; keeps the exact "
+        "frustum where its top corners are rounded (has_exact_solid).");
   m.def("regular_prism",
         [](int n, double radius, const py::handle& z) {
           const auto [z0, z1] = z_range(z);

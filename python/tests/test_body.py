@@ -138,6 +138,22 @@ def test_boolean_results_keep_their_exact_solid():
     assert hedra.exact_volume_sign([(1, rounded), (1, plug), (-1, plate)]) != 0
 
 
+def test_frustum_keeps_its_exact_top():
+    # The top a third of the way to the apex: its corners are not doubles. The frustum's exact
+    # solid is the pyramid cut at z1 by a Boolean (CGAL's corefinement), exactly, also after a
+    # pickle; its rounding alone is not.
+    star = [(2 * math.cos(math.pi * i / 5) * (1 if i % 2 == 0 else 0.4),
+             2 * math.sin(math.pi * i / 5) * (1 if i % 2 == 0 else 0.4)) for i in range(10)]
+    f = hedra.frustum(star, 0, (0.3, 0.2, 3), 1)
+    assert f.has_exact_solid and f.face_count == 12
+    cut = hedra.intersect(hedra.pyramid(star, 0, (0.3, 0.2, 3)), hedra.box((-5, -5, -1), (5, 5, 1)))
+    assert hedra.exact_volume_sign([(1, f), (-1, cut)]) == 0
+    assert hedra.exact_volume_sign([(1, pickle.loads(pickle.dumps(f))), (-1, cut)]) == 0
+    assert hedra.exact_volume_sign([(1, hedra.Body(f.vertices, f.faces)), (-1, cut)]) != 0
+    # Half way with power-of-two coordinates: every top corner is a double, the body exact.
+    assert not hedra.frustum([(0, 0), (2, 0), (2, 2), (0, 2)], 0, (1, 1, 2), 1).has_exact_solid
+
+
 def test_invalid_bodies_raise_invalid_input():
     with pytest.raises(hedra.InvalidInput, match=r"^face 3 refers to vertex 7, out of range \(the body has 4 vertices\)$"):
         hedra.Body([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 7]])
