@@ -83,6 +83,29 @@ std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Tra
   return out;
 }
 
+namespace {
+
+// The body's triangles, each with the face it lies in.
+std::vector<ExactSolid::Tri> triangles_of(const Body& body) {
+  std::vector<ExactSolid::Tri> out;
+  out.reserve(body.triangles().size());
+  for (const Triangle& t : body.triangles()) out.push_back({t.v, t.face});
+  return out;
+}
+
+// The pending exact image of `corners` (with `body`'s triangles, exactly planar faces) under
+// `map`.
+std::shared_ptr<ExactSolid> pending_image(std::vector<Vec3> corners, const Body& body, const Transform& map) {
+  auto out = std::make_shared<ExactSolid>();
+  out->rounded = false;  // a moved double body, as any other (ExactSolid::rounded)
+  out->pending = ExactSolid::Pending{std::make_shared<const std::vector<Vec3>>(std::move(corners)),
+                                     std::make_shared<const std::vector<ExactSolid::Tri>>(triangles_of(body)),
+                                     {map.matrix()}, map.linear_determinant() < 0};
+  return out;
+}
+
+}  // namespace
+
 std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transform& t) {
   const auto& v = body.vertices();
   for (int f = 0; f < body.face_count(); ++f) {
@@ -93,25 +116,11 @@ std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transfor
       for (int w : loop)
         if (orient3d(v[s[0]], v[s[1]], v[s[2]], v[w]) != Sign::Zero) return nullptr;
   }
-  auto triangles = std::make_shared<std::vector<ExactSolid::Tri>>();
-  triangles->reserve(body.triangles().size());
-  for (const Triangle& tri : body.triangles()) triangles->push_back({tri.v, tri.face});
-  auto out = std::make_shared<ExactSolid>();
-  out->rounded = false;  // a moved double body, as any other (ExactSolid::rounded)
-  out->pending = ExactSolid::Pending{std::make_shared<const std::vector<Vec3>>(body.vertices()), std::move(triangles),
-                                     {t.matrix()}, t.linear_determinant() < 0};
-  return out;
+  return pending_image(body.vertices(), body, t);
 }
 
 void attach_translated_image(Body& body, std::vector<Vec3> corners, const Vec3& offset) {
-  auto triangles = std::make_shared<std::vector<ExactSolid::Tri>>();
-  triangles->reserve(body.triangles().size());
-  for (const Triangle& tri : body.triangles()) triangles->push_back({tri.v, tri.face});
-  auto out = std::make_shared<ExactSolid>();
-  out->rounded = false;  // a moved double body, as any other (ExactSolid::rounded)
-  out->pending = ExactSolid::Pending{std::make_shared<const std::vector<Vec3>>(std::move(corners)),
-                                     std::move(triangles), {Transform::translation(offset).matrix()}, false};
-  attach_exact_solid(body, std::move(out));
+  attach_exact_solid(body, pending_image(std::move(corners), body, Transform::translation(offset)));
 }
 
 void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1) {
@@ -136,8 +145,7 @@ void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1) {
     }
   }
   if (!solid->rounded) return;
-  solid->triangles.reserve(body.triangles().size());
-  for (const Triangle& t : body.triangles()) solid->triangles.push_back({t.v, t.face});
+  solid->triangles = triangles_of(body);
   attach_exact_solid(body, std::move(solid));
 }
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "hedra/core/body.h"
+#include "core/primitive_solids.h"
 
 namespace hedra::internal {
 
@@ -78,19 +79,6 @@ std::shared_ptr<const ExactSolid> transformed(const ExactSolid& solid, const Tra
 /// sphere's quadrilaterals). \pre t.is_affine(). Cost O(corners of the faces that are not
 /// triangles) exact orientation tests.
 std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transform& t);
-
-/// Attaches to a freshly built frustum (frustum(): vertices 0..k−1 its base at z0, k..2k−1
-/// its top at z1) the exact frustum: the top's corners are the base's moved towards `apex` by
-/// the fraction (z1 − z0)/(apex.z − z0) in exact arithmetic, which the body's top corners round
-/// (its sides are then planar only within rounding, the solid's exactly). Nothing where every
-/// exact corner is a double (the body is its solid). Cost O(k) exact operations.
-void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1);
-
-/// Attaches to a freshly built body whose vertices are `corners` + `offset` rounded, and whose
-/// faces on `corners` are exactly planar (the caller's construction: sphere()), the pending
-/// exact image of `corners` translated by `offset`: what transformed() would attach, without
-/// a second body or the planarity tests. Cost O(n) copies.
-void attach_translated_image(Body& body, std::vector<Vec3> corners, const Vec3& offset);
 
 /// The solid as bytes (Body::exact_solid_bytes()), and back for `body`, a body with the same
 /// vertices and faces as the one written: "HXS1", then whether the Boolean rounded a corner and

@@ -5,14 +5,10 @@
 #include <numbers>
 #include <string>
 
+#include "core/primitive_solids.h"
 #include "hedra/core/error.h"
 
 namespace hedra {
-namespace internal {
-// core/exact_solid.h (CGAL's exact kernel, kept out of this translation unit).
-void attach_frustum_solid(Body& body, const Vec3& apex, double z0, double z1);
-void attach_translated_image(Body& body, std::vector<Vec3> corners, const Vec3& offset);
-}  // namespace internal
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -273,7 +269,7 @@ double with_bits(double x, int bits) {
 // meridian directions (C_j, S_j) = (cos λ_j, sin λ_j) rounded to 26, so that every product is
 // a double exactly; the four corners of a band's face then lie on lines (ρ, z) of one profile
 // line through the two meridian directions, a plane, whatever the rounding of c, C and S
-// (docs/primitives.md). Each vertex is within r·2^-25 of the sphere (kSphereSnap); the
+// (docs/primitives.md). Each vertex is within kSphereSnap·r (2^-23·r) of the sphere; the
 // coordinates keep the sphere's symmetries exactly (mirrored, not computed again).
 void sphere_mesh(double r, int rings, bool snapped, std::vector<Vec3>& v, std::vector<Face>& faces) {
   const int m = 2 * rings;
