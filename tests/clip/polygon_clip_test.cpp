@@ -264,6 +264,167 @@ TEST(PolygonClip, RandomStarPolygonsAgainstExactAreas) {
   EXPECT_GT(several, 50);  // star tips cut off by the clipper's faces come out as pieces
 }
 
+// ---- clip_convex_polygon_open: every decision on the exact polygon ----
+
+Rational rational_value(const std::array<Rational, 4>& k, const RPoint& p) {
+  return k[0] * p[0] + k[1] * p[1] + k[2] * p[2] + k[3];
+}
+
+RPoint rational_point(const Vec3& p) { return {Rational(p.x()), Rational(p.y()), Rational(p.z())}; }
+
+// p moved along the axis onto the plane k (what clip_convex_polygon_open takes a vertex for).
+RPoint lifted(const std::array<Rational, 4>& k, int axis, const Vec3& p) {
+  RPoint r = rational_point(p);
+  r[axis] = 0;
+  r[axis] = -rational_value(k, r) / k[axis];
+  return r;
+}
+
+// The same clipping in exact rationals: the open Sutherland–Hodgman of the lifted polygon.
+std::vector<RPoint> exact_open_clip(const Polygon3& polygon, const ExactPlane& plane, int axis,
+                                    const ConvexClipper& clipper) {
+  const auto own = rational_plane(plane);
+  std::vector<RPoint> ring;
+  for (const Vec3& p : polygon) ring.push_back(lifted(own, axis, p));
+  for (const ExactPlane& f : clipper.planes()) {
+    const auto k = rational_plane(f);
+    std::vector<Rational> v;
+    int pos = 0, neg = 0;
+    for (const RPoint& p : ring) {
+      v.push_back(rational_value(k, p));
+      pos += v.back() > 0;
+      neg += v.back() < 0;
+    }
+    if (pos == 0) return {};
+    if (neg == 0) continue;
+    std::vector<RPoint> out;
+    for (size_t i = 0; i < ring.size(); ++i) {
+      const size_t j = (i + 1) % ring.size();
+      if (v[i] >= 0) out.push_back(ring[i]);
+      if ((v[i] > 0 && v[j] < 0) || (v[i] < 0 && v[j] > 0)) {
+        const Rational t = v[i] / (v[i] - v[j]);
+        RPoint x;
+        for (int c = 0; c < 3; ++c) x[c] = ring[i][c] + t * (ring[j][c] - ring[i][c]);
+        out.push_back(x);
+      }
+    }
+    ring = std::move(out);
+    if (ring.size() < 3) return {};
+  }
+  return ring;
+}
+
+Vec3 random_unit(std::mt19937_64& rng) {
+  std::normal_distribution<double> g;
+  return Vec3(g(rng), g(rng), g(rng)).normalized();
+}
+
+// The plane through p, q and p + d, its positive side holding `inside`.
+ExactPlane toward(const Vec3& p, const Vec3& q, const Vec3& d, const Vec3& inside) {
+  const ExactPlane f = ExactPlane::through(p, q, p + d);
+  return side_of_plane(f, inside) == Sign::Negative ? f.flipped() : f;
+}
+
+// Three clipper planes through one line that crosses the polygon's plane at X, a point that is
+// no double: the first two bound a wedge with its apex at X, the third holds the wedge and
+// passes through X. Rounded, the apex made by the second plane lies off the third by ulps; a
+// decision on it cut a sliver off the apex (an extra vertex) for some of these seeds.
+TEST(PolygonClip, OpenClipDecidesAVertexOnALaterPlaneExactly) {
+  std::mt19937_64 rng(14);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int rounded_apex_outside = 0;
+  for (int seed = 0; seed < 200; ++seed) {
+    const Vec3 n = random_unit(rng);
+    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    const Vec3 o(u(rng), u(rng), u(rng));
+    const Polygon3 tri{o + 3 * e1, o - 1.5 * e1 + 2.6 * e2, o - 1.5 * e1 - 2.6 * e2};
+    const ExactPlane plane = ExactPlane::through(tri[0], tri[1], tri[2]);
+    int axis = 0;
+    plane.normal().cwiseAbs().maxCoeff(&axis);
+    // The line PQ, slanted, through the polygon's plane near o.
+    const Vec3 slant = (n + 0.3 * random_unit(rng)).normalized();
+    const Vec3 centre = o + 0.2 * u(rng) * e1 + 0.2 * u(rng) * e2;
+    const Vec3 p = centre + 0.7 * slant, q = centre - 0.9 * slant;
+    const Vec3 w1 = slant.unitOrthogonal(), w2 = slant.cross(w1);
+    const auto dir = [&](double angle) { return std::cos(angle) * w1 + std::sin(angle) * w2; };
+    const double a = 2 * std::numbers::pi * (u(rng) + 1) / 2, b = a + 0.8 + 0.5 * u(rng);
+    const Vec3 mid = p + dir((a + b) / 2);
+    const ExactPlane f1 = toward(p, q, dir(a), mid), f2 = toward(p, q, dir(b), mid);
+    const ExactPlane f3 = toward(p, q, dir(a - 0.4), mid);
+    const auto wedge = ConvexClipper::from_planes({f1, f2});
+    const auto all = ConvexClipper::from_planes({f1, f2, f3});
+    PolygonClipScratch scratch;
+    Polygon3 two, three;
+    ASSERT_TRUE(clip_convex_polygon_open(tri, plane, axis, wedge, two, scratch)) << seed;
+    ASSERT_TRUE(clip_convex_polygon_open(tri, plane, axis, all, three, scratch)) << seed;
+    // The third plane holds the wedge exactly: it changes nothing.
+    EXPECT_EQ(three, two) << "seed " << seed;
+    // The apex X: the line PQ meets the plane.
+    const auto own = rational_plane(plane);
+    const Rational vp = rational_value(own, rational_point(p)), vq = rational_value(own, rational_point(q));
+    const Rational t = vp / (vp - vq);
+    Vec3 apex;
+    for (int c = 0; c < 3; ++c)
+      apex[c] = CGAL::to_double(Rational(p[c]) + t * (Rational(q[c]) - Rational(p[c])));
+    int near_apex = 0;
+    for (const Vec3& v : two) {
+      near_apex += (v - apex).cwiseAbs().maxCoeff() < 1e-12;
+      if ((v - apex).cwiseAbs().maxCoeff() < 1e-12 && side_of_plane(f3, v) == Sign::Negative)
+        ++rounded_apex_outside;
+    }
+    EXPECT_EQ(near_apex, 1) << "seed " << seed;
+  }
+  // Deciding on the rounded apex would have cut these.
+  EXPECT_GT(rounded_apex_outside, 10);
+}
+
+// Random triangles and rounded (not exactly planar) quadrilaterals in generic planes against
+// random clippers: the same vertices as the exact rational clipping of the lifted polygon, each
+// within its tracked error bound.
+TEST(PolygonClip, OpenClipMatchesExactRationalsWithinItsBound) {
+  std::mt19937_64 rng(1414);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int clipped = 0;
+  for (int seed = 0; seed < 300; ++seed) {
+    const Vec3 n = random_unit(rng);
+    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
+    const Vec3 o(u(rng), u(rng), u(rng));
+    Polygon3 poly;
+    if (seed % 2 == 0) {
+      poly = {o + 2 * e1, o - e1 + 1.7 * e2, o - e1 - 1.7 * e2};
+    } else {
+      poly = {o + e1 + e2, o - e1 + e2, o - e1 - e2, o + e1 - e2};  // rounded: folds by ulps
+    }
+    const ExactPlane plane = ExactPlane::through(poly[0], poly[1], poly[2]);
+    int axis = 0;
+    plane.normal().cwiseAbs().maxCoeff(&axis);
+    std::vector<ExactPlane> planes;
+    const int count = 3 + seed % 4;
+    for (int i = 0; i < count; ++i) {
+      const Vec3 a = o + 0.8 * Vec3(u(rng), u(rng), u(rng));
+      const Vec3 b = a + random_unit(rng), c = a + random_unit(rng);
+      const ExactPlane f = ExactPlane::through(a, b, c);
+      planes.push_back(side_of_plane(f, o) == Sign::Negative ? f.flipped() : f);
+    }
+    const auto clipper = ConvexClipper::from_planes(planes);
+    PolygonClipScratch scratch;
+    Polygon3 out;
+    const bool any = clip_convex_polygon_open(poly, plane, axis, clipper, out, scratch);
+    const std::vector<RPoint> exact = exact_open_clip(poly, plane, axis, clipper);
+    ASSERT_EQ(any, !exact.empty()) << "seed " << seed;
+    if (!any) continue;
+    ++clipped;
+    ASSERT_EQ(out.size(), exact.size()) << "seed " << seed;
+    for (size_t i = 0; i < out.size(); ++i)
+      for (int c = 0; c < 3; ++c) {
+        // An input vertex keeps its own coordinates: its lift is within the bound too.
+        EXPECT_LE(CGAL::abs(Rational(out[i][c]) - exact[i][c]), Rational(scratch.error[i]))
+            << "seed " << seed << " vertex " << i;
+      }
+  }
+  EXPECT_GT(clipped, 100);
+}
+
 TEST(PolygonClip, BadInput) {
   EXPECT_THROW(clip_polygon(Polygon3{{0, 0, 0}, {1, 0, 0}}, half_space(1, 0, 0, 0)), InvalidInput);
   EXPECT_THROW(clip_polygon(Polygon3{{0, 0, 0}, {1, 0, 0}, {0, NAN, 0}}, half_space(1, 0, 0, 0)),

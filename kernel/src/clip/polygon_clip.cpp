@@ -1,8 +1,17 @@
 #include "hedra/clip/polygon_clip.h"
 
-#include <algorithm>
-#include <cmath>
+#include <CGAL/Gmpq.h>
+#include <CGAL/Mpzf.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <limits>
+#include <optional>
+#include <utility>
+
+#include "core/exact_plane.h"
 #include "hedra/clip/cyrus_beck.h"
 #include "hedra/core/error.h"
 
@@ -79,19 +88,6 @@ int axis_plane(const ExactPlane& f) {
     if (p[0][k] == p[1][k] && third) return k;
   }
   return -1;
-}
-
-Vec3 canonical_crossing(const ExactPlane& f, Vec3 v, Vec3 w) {
-  if (lex_less(w, v)) std::swap(v, w);
-  double t = crossing(f, v, w).t;
-  // Both plane values can round to the same double when the segment lies within rounding of
-  // the plane (the exact signs still differ): then every point of it is within the bound.
-  if (!std::isfinite(t)) t = 0.5;
-  Vec3 p = point_at(v, w, t);
-  // On a plane perpendicular to a coordinate axis the exact crossing has that plane's
-  // coordinate: set it, so that pieces cut by one such plane meet along exactly the same line.
-  if (const int k = axis_plane(f); k >= 0) p[k] = f.points()[0][k];
-  return p;
 }
 
 struct Chain {
@@ -267,29 +263,251 @@ Polygon3 sutherland_hodgman(const Polygon3& polygon, const ConvexClipper& clippe
   return ring;
 }
 
-bool clip_convex_polygon_open(const Polygon3& polygon, const ConvexClipper& clipper,
-                              Polygon3& out, PolygonClipScratch& scratch) {
+namespace {
+
+using internal::ClipLine;
+using internal::ClipVertex;
+using Row = std::array<CGAL::Mpzf, 4>;
+
+constexpr double kUnit = 0.5 * std::numeric_limits<double>::epsilon();
+// A made vertex whose tracked error exceeds this fraction of its edge's ends' coordinates is
+// rounded from its exact point instead: an edge that the plane cuts at a grazing angle (about
+// 1e-4 rad or less; a smooth terrain's triangle cut by its neighbour's plane).
+constexpr double kRecompute = 0x1p-36;
+
+// The homogeneous point where the planes a, b, c meet: X = (X0, X1, X2) / X3, the cofactors
+// of the last row of det[a; b; c; f], so that f(X) = det[a; b; c; f] / X3 for any plane f.
+// Cost about 25 multiprecision products.
+std::array<CGAL::Mpzf, 4> meet(const Row& a, const Row& b, const Row& c) {
+  using Q = CGAL::Mpzf;
+  Q m[4][4];  // 2 × 2 minors of rows a, b
+  for (int p = 0; p < 4; ++p)
+    for (int q = p + 1; q < 4; ++q) m[p][q] = a[p] * b[q] - a[q] * b[p];
+  // 3 × 3 minors of rows a, b, c without column x, expanded along c.
+  const auto minor3 = [&](int x) {
+    int col[3], k = 0;
+    for (int i = 0; i < 4; ++i)
+      if (i != x) col[k++] = i;
+    return c[col[0]] * m[col[1]][col[2]] - c[col[1]] * m[col[0]][col[2]] +
+           c[col[2]] * m[col[0]][col[1]];
+  };
+  std::array<Q, 4> x{Q(0) - minor3(0), minor3(1), Q(0) - minor3(2), minor3(3)};
+  if (CGAL::sign(x[3]) == CGAL::ZERO)
+    throw InternalError("polygon clipping: a vertex whose planes do not meet in a point");
+  return x;
+}
+
+// The sign of f at the point x (homogeneous, from meet).
+Sign side_at_point(const std::array<CGAL::Mpzf, 4>& x, const Row& f) {
+  const int s = CGAL::sign(f[0] * x[0] + f[1] * x[1] + f[2] * x[2] + f[3] * x[3]) * CGAL::sign(x[3]);
+  return s > 0 ? Sign::Positive : (s < 0 ? Sign::Negative : Sign::Zero);
+}
+
+// The exact planes of one clipping: the polygon's plane, the lines of its edges (the plane
+// through an edge's ends containing the projection axis, so it holds the lifted ends), the
+// coordinate planes through an input vertex, the clipper's planes (cached: built when a
+// decision first needs them).
+class ExactPolygon {
+ public:
+  ExactPolygon(const Polygon3& polygon, const ExactPlane& plane, int axis)
+      : polygon_(polygon), plane_(plane), axis_(axis) {}
+
+  Sign side(const ClipVertex& v, const ExactPlane& f) {
+    // An input vertex on the plane is its own lift: the predicate on its doubles (cheaper, and
+    // what a polygon sharing it with a caster needs: a vertex exactly on a plane of the caster).
+    if (v.input < 0) return side_at_point(point(v), row(&f));
+    const Vec3& p = polygon_[static_cast<size_t>(v.input)];
+    if (on_plane(static_cast<size_t>(v.input))) return side_of_plane(f, p);
+    // Off it (a face planar only within rounding): its lift p + s·e_axis, R(p) + s·R_axis = 0,
+    // has f = (f(p)·R_axis − R(p)·f_axis) / R_axis.
+    const Row& g = row(&f);
+    if (!own_) own_ = internal::exact_coefficients(plane_);
+    const auto at = [&p](const Row& r) {
+      return r[0] * CGAL::Mpzf(p.x()) + r[1] * CGAL::Mpzf(p.y()) + r[2] * CGAL::Mpzf(p.z()) + r[3];
+    };
+    const size_t k = static_cast<size_t>(axis_);
+    const int sign = CGAL::sign(at(g) * (*own_)[k] - at(*own_) * g[k]) * CGAL::sign((*own_)[k]);
+    return sign > 0 ? Sign::Positive : (sign < 0 ? Sign::Negative : Sign::Zero);
+  }
+
+  // The vertex's exact point rounded to doubles, each coordinate within 6u of its size (the
+  // quotient of two enclosures one unit in the last place wide), through rationals where
+  // those leave the range of doubles.
+  Vec3 rounded(const ClipVertex& v) {
+    const std::array<CGAL::Mpzf, 4> x = point(v);
+    const std::pair<double, double> w = x[3].to_interval();
+    Vec3 p;
+    bool fine = std::isnormal(w.first) && std::isnormal(w.second);
+    for (int i = 0; i < 3 && fine; ++i) {
+      p[i] = x[static_cast<size_t>(i)].to_interval().first / w.first;
+      fine = std::isfinite(p[i]) && (p[i] == 0 || std::isnormal(p[i]));
+    }
+    if (fine) return p;
+    const CGAL::Gmpq q(x[3]);
+    for (int i = 0; i < 3; ++i) p[i] = CGAL::to_double(CGAL::Gmpq(x[static_cast<size_t>(i)]) / q);
+    return p;
+  }
+
+ private:
+  std::array<CGAL::Mpzf, 4> point(const ClipVertex& v) {
+    if (!own_) own_ = internal::exact_coefficients(plane_);
+    if (v.input >= 0) {
+      const Vec3& p = polygon_[static_cast<size_t>(v.input)];
+      return meet(*own_, coordinate((axis_ + 1) % 3, p), coordinate((axis_ + 2) % 3, p));
+    }
+    const Row a = line(v.on);
+    return meet(*own_, a, row(v.cut));
+  }
+
+  bool on_plane(size_t i) {
+    if (on_.empty()) on_.assign(polygon_.size(), -1);
+    if (on_[i] < 0) {
+      const Vec3& p = polygon_[i];
+      bool on = false;
+      if (plane_.by_points() && !plane_.by_direction())
+        for (const Vec3& q : plane_.points()) on = on || q == p;
+      on_[i] = on || side_of_plane(plane_, p) == Sign::Zero;
+    }
+    return on_[i] != 0;
+  }
+
+  const Row& row(const ExactPlane* f) {
+    for (const auto& [plane, r] : planes_)
+      if (plane == f) return *r;
+    planes_.emplace_back(f, std::make_unique<const Row>(internal::exact_coefficients(*f)));
+    return *planes_.back().second;
+  }
+  static Row coordinate(int i, const Vec3& p) {
+    using Q = CGAL::Mpzf;
+    Row r{Q(0), Q(0), Q(0), Q(-p[i])};
+    r[static_cast<size_t>(i)] = Q(1);
+    return r;
+  }
+  Row line(const ClipLine& l) {
+    if (l.plane) return row(l.plane);
+    using Q = CGAL::Mpzf;
+    const size_t n = polygon_.size(), e = static_cast<size_t>(l.edge);
+    const Vec3& v = polygon_[e];
+    const Vec3& w = polygon_[(e + 1) % n];
+    const Q d[3] = {Q(w.x()) - Q(v.x()), Q(w.y()) - Q(v.y()), Q(w.z()) - Q(v.z())};
+    // (w − v) × e_axis
+    const int i = (axis_ + 1) % 3, j = (axis_ + 2) % 3;
+    Row r{Q(0), Q(0), Q(0), Q(0)};
+    r[static_cast<size_t>(i)] = d[j];
+    r[static_cast<size_t>(j)] = Q(0) - d[i];
+    r[3] = Q(0) - (r[static_cast<size_t>(i)] * Q(v[i]) + r[static_cast<size_t>(j)] * Q(v[j]));
+    return r;
+  }
+
+  const Polygon3& polygon_;
+  const ExactPlane& plane_;
+  int axis_;
+  std::optional<Row> own_;
+  std::vector<signed char> on_;  // per input vertex: on the plane (1), off it (0), not known
+  // Each row on the heap, so a reference stays valid as the list grows; nothing is allocated
+  // until a decision needs the exact planes.
+  std::vector<std::pair<const ExactPlane*, std::unique_ptr<const Row>>> planes_;
+};
+
+// The side of f at a vertex: the filter on its rounded point p, whose exact point is within
+// `error` (max-norm) of it, then the exact planes.
+Sign side_at(const ExactPlane& f, double norm1, const Vec3& p, double error, const ClipVertex& v,
+             ExactPolygon& exact) {
+  const double value = f.value(p);
+  const double bound =
+      (f.error_bound(p.cwiseAbs().maxCoeff()) + norm1 * error * (1 + 1e-6)) * (1 + 8 * kUnit);
+  if (value > bound) return Sign::Positive;
+  if (value < -bound) return Sign::Negative;
+  return exact.side(v, f);
+}
+
+}  // namespace
+
+bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, int axis,
+                              const ConvexClipper& clipper, Polygon3& out,
+                              PolygonClipScratch& s) {
+  if (axis < 0 || axis > 2 || !(std::abs(plane.normal()[axis]) > 0))
+    throw InvalidInput("clip_convex_polygon_open: the plane is parallel to the projection axis");
   out = polygon;
-  std::vector<Sign>& side = scratch.side;
+  const size_t n0 = polygon.size();
+  s.error.resize(n0);
+  s.made.resize(n0);
+  // An input vertex's exact point is its lift onto the plane, |f(p)| / |n_axis| away.
+  const double lift = (1 + 1e-6) / std::abs(plane.normal()[axis]);
+  for (size_t i = 0; i < n0; ++i) {
+    const Vec3& p = polygon[i];
+    s.error[i] = (std::abs(plane.value(p)) + plane.error_bound(p.cwiseAbs().maxCoeff())) * lift;
+    s.made[i] = ClipVertex{static_cast<int>(i), {}, nullptr, ClipLine{static_cast<int>(i), nullptr}};
+  }
+  ExactPolygon exact(polygon, plane, axis);
+  std::vector<Sign>& side = s.side;
   for (const ExactPlane& f : clipper.planes()) {
     const size_t n = out.size();
+    const double norm1 = f.normal().cwiseAbs().sum();
     side.resize(n);
     size_t pos = 0, neg = 0;
     for (size_t i = 0; i < n; ++i) {
-      // side_of_plane(f, p) with its static filter inline (the common case, no call).
-      const Vec3& p = out[i];
-      side[i] = side_of_plane(f, p, f.value(p), f.error_bound(p.cwiseAbs().maxCoeff()));
+      side[i] = side_at(f, norm1, out[i], s.error[i], s.made[i], exact);
       pos += side[i] == Sign::Positive;
       neg += side[i] == Sign::Negative;
     }
     // Open: no vertex strictly inside leaves nothing of positive area strictly inside.
     if (pos == 0) return false;
     if (neg == 0) continue;
-    scratch.ring.clear();
+    s.ring.clear();
+    s.ring_error.clear();
+    s.ring_made.clear();
+    const ClipLine along{-1, &f};
     stage(
-        n, side, [&](size_t i) { scratch.ring.push_back(out[i]); },
-        [&](size_t i, size_t j) { scratch.ring.push_back(canonical_crossing(f, out[i], out[j])); });
-    std::swap(out, scratch.ring);
+        n, side,
+        [&](size_t i) {
+          ClipVertex v = s.made[i];
+          // A vertex on f followed by one outside: the boundary runs along f from here.
+          if (side[i] == Sign::Zero && side[(i + 1) % n] == Sign::Negative) v.after = along;
+          s.ring.push_back(out[i]);
+          s.ring_error.push_back(s.error[i]);
+          s.ring_made.push_back(v);
+        },
+        [&](size_t i, size_t j) {
+          Vec3 a = out[i], b = out[j];
+          double ea = s.error[i], eb = s.error[j];
+          if (lex_less(b, a)) {
+            std::swap(a, b);
+            std::swap(ea, eb);
+          }
+          const double ma = a.cwiseAbs().maxCoeff(), mb = b.cwiseAbs().maxCoeff();
+          const Crossing c = crossing_from_values(f.value(a), f.value(b),
+                                                  f.error_bound(ma) + norm1 * ea * (1 + 1e-6),
+                                                  f.error_bound(mb) + norm1 * eb * (1 + 1e-6));
+          double t = c.t;
+          // Both values can round alike when the edge lies within rounding of f: any point of
+          // it is then within the bound below.
+          if (!std::isfinite(t)) t = 0.5;
+          Vec3 p = point_at(a, b, t);
+          if (const int k = axis_plane(f); k >= 0) p[k] = f.points()[0][k];
+          // The exact crossing X lies on the exact edge AB at t*: p − X = (1 − t*)(a − A) +
+          // t*(b − B) + (t − t*)(b − a) + the rounding of point_at (≤ 3u·max(|a|, |b|) a
+          // coordinate). It lies on the segment anyway: within its span of p.
+          const double span = (b - a).cwiseAbs().maxCoeff();
+          const double rounding = 8 * kUnit * std::max(ma, mb);
+          double e = std::max(ea, eb) + c.error * span + rounding;
+          if (!(e <= std::max(ea, eb) + span + rounding)) e = std::max(ea, eb) + span + rounding;
+          e *= 1 + 8 * kUnit;
+          const ClipVertex made{-1, s.made[i].after, &f,
+                                side[i] == Sign::Positive ? along : s.made[i].after};
+          // Far from its exact point (an edge nearly along f, ends far from theirs): the exact
+          // point rounded once instead.
+          if (!(e <= kRecompute * std::max(ma, mb))) {
+            p = exact.rounded(made);
+            e = 8 * kUnit * p.cwiseAbs().maxCoeff() + std::numeric_limits<double>::min();
+          }
+          s.ring.push_back(p);
+          s.ring_error.push_back(e);
+          s.ring_made.push_back(made);
+        });
+    std::swap(out, s.ring);
+    std::swap(s.error, s.ring_error);
+    std::swap(s.made, s.ring_made);
     if (out.size() < 3) return false;
   }
   return true;
