@@ -355,8 +355,8 @@ TEST(PolygonClip, OpenClipDecidesAVertexOnALaterPlaneExactly) {
     const auto all = ConvexClipper::from_planes({f1, f2, f3});
     PolygonClipScratch scratch;
     Polygon3 two, three;
-    ASSERT_TRUE(clip_convex_polygon_open(tri, plane, axis, wedge, two, scratch)) << seed;
-    ASSERT_TRUE(clip_convex_polygon_open(tri, plane, axis, all, three, scratch)) << seed;
+    ASSERT_TRUE(clip_convex_polygon_open(tri, plane, axis, true, wedge, two, scratch)) << seed;
+    ASSERT_TRUE(clip_convex_polygon_open(tri, plane, axis, true, all, three, scratch)) << seed;
     // The third plane holds the wedge exactly: it changes nothing.
     EXPECT_EQ(three, two) << "seed " << seed;
     // The apex X: the line PQ meets the plane.
@@ -409,7 +409,7 @@ TEST(PolygonClip, OpenClipMatchesExactRationalsWithinItsBound) {
     const auto clipper = ConvexClipper::from_planes(planes);
     PolygonClipScratch scratch;
     Polygon3 out;
-    const bool any = clip_convex_polygon_open(poly, plane, axis, clipper, out, scratch);
+    const bool any = clip_convex_polygon_open(poly, plane, axis, seed % 2 == 0, clipper, out, scratch);
     const std::vector<RPoint> exact = exact_open_clip(poly, plane, axis, clipper);
     ASSERT_EQ(any, !exact.empty()) << "seed " << seed;
     if (!any) continue;

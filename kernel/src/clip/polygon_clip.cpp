@@ -265,7 +265,6 @@ Polygon3 sutherland_hodgman(const Polygon3& polygon, const ConvexClipper& clippe
 
 namespace {
 
-using internal::ClipLine;
 using internal::ClipVertex;
 using Row = std::array<CGAL::Mpzf, 4>;
 
@@ -309,18 +308,27 @@ Sign side_at_point(const std::array<CGAL::Mpzf, 4>& x, const Row& f) {
 // decision first needs them).
 class ExactPolygon {
  public:
-  ExactPolygon(const Polygon3& polygon, const ExactPlane& plane, int axis)
-      : polygon_(polygon), plane_(plane), axis_(axis) {}
+  ExactPolygon(const Polygon3& polygon, const ExactPlane& plane, int axis,
+               const ConvexClipper& clipper)
+      : polygon_(polygon), plane_(plane), axis_(axis), clipper_(clipper) {}
 
-  Sign side(const ClipVertex& v, const ExactPlane& f) {
+  // The side of the clipper's plane `f` at vertex v.
+  Sign side(ClipVertex& v, int f) {
     // An input vertex on the plane is its own lift: the predicate on its doubles (cheaper, and
     // what a polygon sharing it with a caster needs: a vertex exactly on a plane of the caster).
-    if (v.input < 0) return side_at_point(point(v), row(&f));
+    if (v.input < 0) {
+      // Made by a cut: its exact point, kept for the planes after this one.
+      if (v.exact < 0) {
+        points_.push_back(point(v));
+        v.exact = static_cast<int>(points_.size()) - 1;
+      }
+      return side_at_point(points_[static_cast<size_t>(v.exact)], row(f));
+    }
     const Vec3& p = polygon_[static_cast<size_t>(v.input)];
-    if (on_plane(static_cast<size_t>(v.input))) return side_of_plane(f, p);
+    if (on_plane(static_cast<size_t>(v.input))) return side_of_plane(clipper_.plane(f), p);
     // Off it (a face planar only within rounding): its lift p + s·e_axis, R(p) + s·R_axis = 0,
     // has f = (f(p)·R_axis − R(p)·f_axis) / R_axis.
-    const Row& g = row(&f);
+    const Row& g = row(f);
     if (!own_) own_ = internal::exact_coefficients(plane_);
     const auto at = [&p](const Row& r) {
       return r[0] * CGAL::Mpzf(p.x()) + r[1] * CGAL::Mpzf(p.y()) + r[2] * CGAL::Mpzf(p.z()) + r[3];
@@ -328,6 +336,25 @@ class ExactPolygon {
     const size_t k = static_cast<size_t>(axis_);
     const int sign = CGAL::sign(at(g) * (*own_)[k] - at(*own_) * g[k]) * CGAL::sign((*own_)[k]);
     return sign > 0 ? Sign::Positive : (sign < 0 ? Sign::Negative : Sign::Zero);
+  }
+
+  // Whether the rounded point p of a made vertex is its exact point, known from doubles alone:
+  // each of its three planes perpendicular to a coordinate axis and p on it (the vertices of
+  // axis-aligned walls, floors and their cuts). Cost O(1), no multiprecision.
+  bool exact_in_doubles(const ClipVertex& v, const Vec3& p) const {
+    const auto on_axis_plane = [&p](const ExactPlane& g) {
+      const int k = axis_plane(g);
+      return k >= 0 && p[k] == g.points()[0][k];
+    };
+    if (!on_axis_plane(plane_) || !on_axis_plane(clipper_.plane(v.cut))) return false;
+    if (v.on < 0) return on_axis_plane(clipper_.plane(-1 - v.on));
+    const Vec3& a = polygon_[static_cast<size_t>(v.on)];
+    const Vec3& b = polygon_[(static_cast<size_t>(v.on) + 1) % polygon_.size()];
+    // The input edge's line plane (through its ends along the axis) is x_m = a_m when the ends
+    // share coordinate m (m not the axis).
+    for (int m = 0; m < 3; ++m)
+      if (m != axis_ && a[m] == b[m] && p[m] == a[m]) return true;
+    return false;
   }
 
   // The vertex's exact point rounded to doubles, each coordinate within 6u of its size (the
@@ -371,11 +398,12 @@ class ExactPolygon {
     return on_[i] != 0;
   }
 
-  const Row& row(const ExactPlane* f) {
-    for (const auto& [plane, r] : planes_)
-      if (plane == f) return *r;
-    planes_.emplace_back(f, std::make_unique<const Row>(internal::exact_coefficients(*f)));
-    return *planes_.back().second;
+  // The exact coefficients of the clipper's plane i, made once per clipping.
+  const Row& row(int i) {
+    if (rows_.empty()) rows_.resize(static_cast<size_t>(clipper_.plane_count()));
+    auto& r = rows_[static_cast<size_t>(i)];
+    if (!r) r = std::make_unique<const Row>(internal::exact_coefficients(clipper_.plane(i)));
+    return *r;
   }
   static Row coordinate(int i, const Vec3& p) {
     using Q = CGAL::Mpzf;
@@ -383,10 +411,10 @@ class ExactPolygon {
     r[static_cast<size_t>(i)] = Q(1);
     return r;
   }
-  Row line(const ClipLine& l) {
-    if (l.plane) return row(l.plane);
+  Row line(int l) {
+    if (l < 0) return row(-1 - l);
     using Q = CGAL::Mpzf;
-    const size_t n = polygon_.size(), e = static_cast<size_t>(l.edge);
+    const size_t n = polygon_.size(), e = static_cast<size_t>(l);
     const Vec3& v = polygon_[e];
     const Vec3& w = polygon_[(e + 1) % n];
     const Q d[3] = {Q(w.x()) - Q(v.x()), Q(w.y()) - Q(v.y()), Q(w.z()) - Q(v.z())};
@@ -403,28 +431,33 @@ class ExactPolygon {
   const ExactPlane& plane_;
   int axis_;
   std::optional<Row> own_;
+  std::vector<std::array<CGAL::Mpzf, 4>> points_;  // exact points of made vertices
   std::vector<signed char> on_;  // per input vertex: on the plane (1), off it (0), not known
-  // Each row on the heap, so a reference stays valid as the list grows; nothing is allocated
-  // until a decision needs the exact planes.
-  std::vector<std::pair<const ExactPlane*, std::unique_ptr<const Row>>> planes_;
+  const ConvexClipper& clipper_;
+  // Each row on the heap, so a reference stays valid; nothing is allocated until a decision
+  // needs the exact planes.
+  std::vector<std::unique_ptr<const Row>> rows_;
 };
 
 // The side of f at a vertex: the filter on its rounded point p, whose exact point is within
 // `error` (max-norm) of it, then the exact planes.
-Sign side_at(const ExactPlane& f, double norm1, const Vec3& p, double error, const ClipVertex& v,
-             ExactPolygon& exact) {
+Sign side_at(const ExactPlane& f, int index, double norm1, const Vec3& p, double error,
+             ClipVertex& v, ExactPolygon& exact) {
   const double value = f.value(p);
+  // A vertex that is its exact point (an input vertex on the plane): side_of_plane with its
+  // static filter inline.
+  if (error == 0) return side_of_plane(f, p, value, f.error_bound(p.cwiseAbs().maxCoeff()));
   const double bound =
       (f.error_bound(p.cwiseAbs().maxCoeff()) + norm1 * error * (1 + 1e-6)) * (1 + 8 * kUnit);
   if (value > bound) return Sign::Positive;
   if (value < -bound) return Sign::Negative;
-  return exact.side(v, f);
+  return exact.side(v, index);
 }
 
 }  // namespace
 
 bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, int axis,
-                              const ConvexClipper& clipper, Polygon3& out,
+                              bool planar, const ConvexClipper& clipper, Polygon3& out,
                               PolygonClipScratch& s) {
   if (axis < 0 || axis > 2 || !(std::abs(plane.normal()[axis]) > 0))
     throw InvalidInput("clip_convex_polygon_open: the plane is parallel to the projection axis");
@@ -436,18 +469,20 @@ bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, 
   const double lift = (1 + 1e-6) / std::abs(plane.normal()[axis]);
   for (size_t i = 0; i < n0; ++i) {
     const Vec3& p = polygon[i];
-    s.error[i] = (std::abs(plane.value(p)) + plane.error_bound(p.cwiseAbs().maxCoeff())) * lift;
-    s.made[i] = ClipVertex{static_cast<int>(i), {}, nullptr, ClipLine{static_cast<int>(i), nullptr}};
+    s.error[i] =
+        planar ? 0 : (std::abs(plane.value(p)) + plane.error_bound(p.cwiseAbs().maxCoeff())) * lift;
+    s.made[i] = ClipVertex{static_cast<int>(i), 0, 0, static_cast<int>(i), -1};
   }
-  ExactPolygon exact(polygon, plane, axis);
+  ExactPolygon exact(polygon, plane, axis, clipper);
   std::vector<Sign>& side = s.side;
-  for (const ExactPlane& f : clipper.planes()) {
+  for (int index = 0; index < clipper.plane_count(); ++index) {
+    const ExactPlane& f = clipper.plane(index);
     const size_t n = out.size();
     const double norm1 = f.normal().cwiseAbs().sum();
     side.resize(n);
     size_t pos = 0, neg = 0;
     for (size_t i = 0; i < n; ++i) {
-      side[i] = side_at(f, norm1, out[i], s.error[i], s.made[i], exact);
+      side[i] = side_at(f, index, norm1, out[i], s.error[i], s.made[i], exact);
       pos += side[i] == Sign::Positive;
       neg += side[i] == Sign::Negative;
     }
@@ -457,7 +492,7 @@ bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, 
     s.ring.clear();
     s.ring_error.clear();
     s.ring_made.clear();
-    const ClipLine along{-1, &f};
+    const int along = -1 - index;
     stage(
         n, side,
         [&](size_t i) {
@@ -493,11 +528,13 @@ bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, 
           double e = std::max(ea, eb) + c.error * span + rounding;
           if (!(e <= std::max(ea, eb) + span + rounding)) e = std::max(ea, eb) + span + rounding;
           e *= 1 + 8 * kUnit;
-          const ClipVertex made{-1, s.made[i].after, &f,
-                                side[i] == Sign::Positive ? along : s.made[i].after};
+          const ClipVertex made{-1, s.made[i].after, index,
+                                side[i] == Sign::Positive ? along : s.made[i].after, -1};
           // Far from its exact point (an edge nearly along f, ends far from theirs): the exact
           // point rounded once instead.
-          if (!(e <= kRecompute * std::max(ma, mb))) {
+          if (exact.exact_in_doubles(made, p)) {
+            e = 0;
+          } else if (!(e <= kRecompute * std::max(ma, mb))) {
             p = exact.rounded(made);
             e = 8 * kUnit * p.cwiseAbs().maxCoeff() + std::numeric_limits<double>::min();
           }

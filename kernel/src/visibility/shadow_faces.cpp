@@ -168,6 +168,21 @@ ShadowFace make_face(const Body& body, int f) {
   }
   fd.centre = box.center();
   fd.radius = 0.5 * box.diagonal().norm();
+  // Exactly planar: every vertex but the support triple's on the plane, exactly (no test for a
+  // triangle, nor for a face whose vertices share one coordinate: a box's, a prism's cap).
+  // Polygon clipping then decides its vertices as they are.
+  const auto& support = body.support(f);
+  const Vec3& first = fd.corners[0];
+  bool aligned[3] = {true, true, true};
+  for (const auto& loop : face.loops)
+    for (int id : loop)
+      for (int k = 0; k < 3; ++k)
+        aligned[k] = aligned[k] && body.vertices()[static_cast<size_t>(id)][k] == first[k];
+  if (!aligned[0] && !aligned[1] && !aligned[2])
+    for (const auto& loop : face.loops)
+      for (int id : loop)
+        if (fd.planar && id != support[0] && id != support[1] && id != support[2])
+          fd.planar = body.face_side(f, body.vertices()[static_cast<size_t>(id)]) == Sign::Zero;
   convex_parts(body, f, fd);
   return fd;
 }

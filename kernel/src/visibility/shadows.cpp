@@ -118,7 +118,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
     }
     const ConvexClipper& clipper = *volumes.volume_of(pieces, p).clipper;
     fd.for_parts([&](const Polygon3& part) {
-      if (clip_convex_polygon_open(part, fd.plane, fd.axis, clipper, clipped, scratch) &&
+      if (clip_convex_polygon_open(part, fd.plane, fd.axis, fd.planar, clipper, clipped, scratch) &&
           to_convex_ring(fd, clipped, ring))
         out.push_back(ring);
     });

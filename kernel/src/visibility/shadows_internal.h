@@ -45,6 +45,7 @@ struct ShadowFace {
   Vec3 centre = Vec3::Zero();
   double radius = 0;
   ExactPlane plane;           // through the face's support triple: Positive inner (face_side)
+  bool planar = true;         // every vertex exactly on `plane` (else planar within rounding)
   std::vector<Vec3> corners;  // the outer loop
 
   Vec3 lift(const Vec2& q) const {

@@ -45,20 +45,14 @@ std::vector<Polygon3> clip_polygon(const Polygon3& polygon, const ConvexClipper&
 Polygon3 sutherland_hodgman(const Polygon3& polygon, const ConvexClipper& clipper);
 
 namespace internal {
-/// A line of a clipped polygon's boundary, in the polygon's plane: the input's edge from vertex
-/// `edge` to the next, or the trace of a clipper plane.
-struct ClipLine {
-  int edge = -1;
-  const ExactPlane* plane = nullptr;
-};
 /// How a vertex of a clipped polygon is made, exactly: an input vertex (lifted onto the plane),
-/// or where the line `on` crosses the clipper plane `cut`; `after` is the line of the edge to
-/// the next vertex.
+/// or where the line `on` crosses the clipper's plane `cut`; `after` is the line of the edge to
+/// the next vertex. A line is the input's edge from vertex l to the next (l ≥ 0) or the trace
+/// of the clipper's plane −1 − l.
 struct ClipVertex {
   int input = -1;
-  ClipLine on;
-  const ExactPlane* cut = nullptr;
-  ClipLine after;
+  int on = 0, cut = 0, after = 0;
+  int exact = -1;  // its exact point, once a decision has needed it (index in one clipping)
 };
 }  // namespace internal
 
@@ -96,8 +90,10 @@ struct PolygonClipScratch {
 /// ring, `plane` with a non-zero `axis` component. \throw InvalidInput when that component
 /// is zero. Cost O(planes · n); a decision the filter leaves open costs a few dozen
 /// multiprecision operations.
+/// `planar`: the caller knows every vertex lies exactly on `plane` (a face whose vertices
+/// all do: its own lifts), so they are decided by side_of_plane on their doubles.
 bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, int axis,
-                              const ConvexClipper& clipper, Polygon3& out,
+                              bool planar, const ConvexClipper& clipper, Polygon3& out,
                               PolygonClipScratch& scratch);
 
 /// Area of a planar polygon: half the length of Newell's vector. Cost O(n).
