@@ -444,8 +444,8 @@ class ExactPolygon {
 Sign side_at(const ExactPlane& f, int index, double norm1, const Vec3& p, double error,
              ClipVertex& v, ExactPolygon& exact) {
   const double value = f.value(p);
-  // A vertex that is its exact point (an input vertex on the plane): side_of_plane with its
-  // static filter inline.
+  // A vertex that is its exact point (an input vertex of a planar face, a made vertex certified
+  // from doubles): side_of_plane with its static filter inline.
   if (error == 0) return side_of_plane(f, p, value, f.error_bound(p.cwiseAbs().maxCoeff()));
   const double bound =
       (f.error_bound(p.cwiseAbs().maxCoeff()) + norm1 * error * (1 + 1e-6)) * (1 + 8 * kUnit);
