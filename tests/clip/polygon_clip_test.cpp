@@ -319,6 +319,26 @@ Vec3 random_unit(std::mt19937_64& rng) {
   return Vec3(g(rng), g(rng), g(rng)).normalized();
 }
 
+// A random plane: unit normal n, orthonormal e1, e2 in it, a point o.
+struct Frame {
+  Vec3 n, e1, e2, o;
+};
+Frame random_frame(std::mt19937_64& rng, std::uniform_real_distribution<double>& u) {
+  Frame f;
+  f.n = random_unit(rng);
+  f.e1 = f.n.unitOrthogonal();
+  f.e2 = f.n.cross(f.e1);
+  f.o = Vec3(u(rng), u(rng), u(rng));
+  return f;
+}
+
+// The coordinate axis along which a plane's normal is largest (the projection axis).
+int dominant_axis(const ExactPlane& f) {
+  int axis = 0;
+  f.normal().cwiseAbs().maxCoeff(&axis);
+  return axis;
+}
+
 // The plane through p, q and p + d, its positive side holding `inside`.
 ExactPlane toward(const Vec3& p, const Vec3& q, const Vec3& d, const Vec3& inside) {
   const ExactPlane f = ExactPlane::through(p, q, p + d);
@@ -334,13 +354,10 @@ TEST(PolygonClip, OpenClipDecidesAVertexOnALaterPlaneExactly) {
   std::uniform_real_distribution<double> u(-1, 1);
   int rounded_apex_outside = 0;
   for (int seed = 0; seed < 200; ++seed) {
-    const Vec3 n = random_unit(rng);
-    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
-    const Vec3 o(u(rng), u(rng), u(rng));
+    const auto [n, e1, e2, o] = random_frame(rng, u);
     const Polygon3 tri{o + 3 * e1, o - 1.5 * e1 + 2.6 * e2, o - 1.5 * e1 - 2.6 * e2};
     const ExactPlane plane = ExactPlane::through(tri[0], tri[1], tri[2]);
-    int axis = 0;
-    plane.normal().cwiseAbs().maxCoeff(&axis);
+    const int axis = dominant_axis(plane);
     // The line PQ, slanted, through the polygon's plane near o.
     const Vec3 slant = (n + 0.3 * random_unit(rng)).normalized();
     const Vec3 centre = o + 0.2 * u(rng) * e1 + 0.2 * u(rng) * e2;
@@ -386,9 +403,7 @@ TEST(PolygonClip, OpenClipMatchesExactRationalsWithinItsBound) {
   std::uniform_real_distribution<double> u(-1, 1);
   int clipped = 0;
   for (int seed = 0; seed < 300; ++seed) {
-    const Vec3 n = random_unit(rng);
-    const Vec3 e1 = n.unitOrthogonal(), e2 = n.cross(e1);
-    const Vec3 o(u(rng), u(rng), u(rng));
+    const auto [n, e1, e2, o] = random_frame(rng, u);
     Polygon3 poly;
     if (seed % 2 == 0) {
       poly = {o + 2 * e1, o - e1 + 1.7 * e2, o - e1 - 1.7 * e2};
@@ -396,8 +411,7 @@ TEST(PolygonClip, OpenClipMatchesExactRationalsWithinItsBound) {
       poly = {o + e1 + e2, o - e1 + e2, o - e1 - e2, o + e1 - e2};  // rounded: folds by ulps
     }
     const ExactPlane plane = ExactPlane::through(poly[0], poly[1], poly[2]);
-    int axis = 0;
-    plane.normal().cwiseAbs().maxCoeff(&axis);
+    const int axis = dominant_axis(plane);
     std::vector<ExactPlane> planes;
     const int count = 3 + seed % 4;
     for (int i = 0; i < count; ++i) {

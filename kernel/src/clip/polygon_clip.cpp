@@ -310,7 +310,8 @@ class ExactPolygon {
  public:
   ExactPolygon(const Polygon3& polygon, const ExactPlane& plane, int axis,
                const ConvexClipper& clipper)
-      : polygon_(polygon), plane_(plane), axis_(axis), clipper_(clipper) {}
+      : polygon_(polygon), plane_(plane), axis_(axis), plane_axis_(axis_plane(plane)),
+        clipper_(clipper) {}
 
   // The side of the clipper's plane `f` at vertex v.
   Sign side(ClipVertex& v, int f) {
@@ -329,25 +330,26 @@ class ExactPolygon {
     // Off it (a face planar only within rounding): its lift p + s·e_axis, R(p) + s·R_axis = 0,
     // has f = (f(p)·R_axis − R(p)·f_axis) / R_axis.
     const Row& g = row(f);
-    if (!own_) own_ = internal::exact_coefficients(plane_);
-    const auto at = [&p](const Row& r) {
-      return r[0] * CGAL::Mpzf(p.x()) + r[1] * CGAL::Mpzf(p.y()) + r[2] * CGAL::Mpzf(p.z()) + r[3];
+    const Row& r = own();
+    const auto at = [&p](const Row& c) {
+      return c[0] * CGAL::Mpzf(p.x()) + c[1] * CGAL::Mpzf(p.y()) + c[2] * CGAL::Mpzf(p.z()) + c[3];
     };
     const size_t k = static_cast<size_t>(axis_);
-    const int sign = CGAL::sign(at(g) * (*own_)[k] - at(*own_) * g[k]) * CGAL::sign((*own_)[k]);
+    const int sign = CGAL::sign(at(g) * r[k] - at(r) * g[k]) * CGAL::sign(r[k]);
     return sign > 0 ? Sign::Positive : (sign < 0 ? Sign::Negative : Sign::Zero);
   }
 
   // Whether the rounded point p of a made vertex is its exact point, known from doubles alone:
   // each of its three planes perpendicular to a coordinate axis and p on it (the vertices of
-  // axis-aligned walls, floors and their cuts). Cost O(1), no multiprecision.
-  bool exact_in_doubles(const ClipVertex& v, const Vec3& p) const {
-    const auto on_axis_plane = [&p](const ExactPlane& g) {
-      const int k = axis_plane(g);
-      return k >= 0 && p[k] == g.points()[0][k];
-    };
-    if (!on_axis_plane(plane_) || !on_axis_plane(clipper_.plane(v.cut))) return false;
-    if (v.on < 0) return on_axis_plane(clipper_.plane(-1 - v.on));
+  // axis-aligned walls, floors and their cuts). `cut_axis`: axis_plane of the cutting plane.
+  // Cost O(1), no multiprecision.
+  bool exact_in_doubles(const ClipVertex& v, const Vec3& p, int cut_axis) const {
+    const auto on = [&p](const ExactPlane& g, int k) { return k >= 0 && p[k] == g.points()[0][k]; };
+    if (!on(plane_, plane_axis_) || !on(clipper_.plane(v.cut), cut_axis)) return false;
+    if (v.on < 0) {
+      const ExactPlane& g = clipper_.plane(-1 - v.on);
+      return on(g, axis_plane(g));
+    }
     const Vec3& a = polygon_[static_cast<size_t>(v.on)];
     const Vec3& b = polygon_[(static_cast<size_t>(v.on) + 1) % polygon_.size()];
     // The input edge's line plane (through its ends along the axis) is x_m = a_m when the ends
@@ -377,13 +379,12 @@ class ExactPolygon {
 
  private:
   std::array<CGAL::Mpzf, 4> point(const ClipVertex& v) {
-    if (!own_) own_ = internal::exact_coefficients(plane_);
     if (v.input >= 0) {
       const Vec3& p = polygon_[static_cast<size_t>(v.input)];
-      return meet(*own_, coordinate((axis_ + 1) % 3, p), coordinate((axis_ + 2) % 3, p));
+      return meet(own(), coordinate((axis_ + 1) % 3, p), coordinate((axis_ + 2) % 3, p));
     }
     const Row a = line(v.on);
-    return meet(*own_, a, row(v.cut));
+    return meet(own(), a, row(v.cut));
   }
 
   bool on_plane(size_t i) {
@@ -399,6 +400,12 @@ class ExactPolygon {
   }
 
   // The exact coefficients of the clipper's plane i, made once per clipping.
+  // The exact coefficients of the polygon's plane, made once per clipping.
+  const Row& own() {
+    if (!own_) own_ = internal::exact_coefficients(plane_);
+    return *own_;
+  }
+
   const Row& row(int i) {
     if (rows_.empty()) rows_.resize(static_cast<size_t>(clipper_.plane_count()));
     auto& r = rows_[static_cast<size_t>(i)];
@@ -430,6 +437,7 @@ class ExactPolygon {
   const Polygon3& polygon_;
   const ExactPlane& plane_;
   int axis_;
+  int plane_axis_;  // axis_plane of the polygon's plane
   std::optional<Row> own_;
   std::vector<std::array<CGAL::Mpzf, 4>> points_;  // exact points of made vertices
   std::vector<signed char> on_;  // per input vertex: on the plane (1), off it (0), not known
@@ -493,6 +501,7 @@ bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, 
     s.ring_error.clear();
     s.ring_made.clear();
     const int along = -1 - index;
+    const int f_axis = axis_plane(f);
     stage(
         n, side,
         [&](size_t i) {
@@ -519,7 +528,7 @@ bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, 
           // it is then within the bound below.
           if (!std::isfinite(t)) t = 0.5;
           Vec3 p = point_at(a, b, t);
-          if (const int k = axis_plane(f); k >= 0) p[k] = f.points()[0][k];
+          if (f_axis >= 0) p[f_axis] = f.points()[0][f_axis];
           // The exact crossing X lies on the exact edge AB at t*: p − X = (1 − t*)(a − A) +
           // t*(b − B) + (t − t*)(b − a) + the rounding of point_at (≤ 3u·max(|a|, |b|) a
           // coordinate). It lies on the segment anyway: within its span of p.
@@ -532,7 +541,7 @@ bool clip_convex_polygon_open(const Polygon3& polygon, const ExactPlane& plane, 
                                 side[i] == Sign::Positive ? along : s.made[i].after, -1};
           // Far from its exact point (an edge nearly along f, ends far from theirs): the exact
           // point rounded once instead.
-          if (exact.exact_in_doubles(made, p)) {
+          if (exact.exact_in_doubles(made, p, f_axis)) {
             e = 0;
           } else if (!(e <= kRecompute * std::max(ma, mb))) {
             p = exact.rounded(made);
