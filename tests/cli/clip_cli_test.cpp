@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "testing/cli_run.h"
+#include "testing/temp_files.h"
 #include <unistd.h>
 
 #include <algorithm>
@@ -25,12 +26,7 @@ using Result = hedra::testing::CliResult;
 
 Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
-fs::path temp_dir(const char* name) {
-  const fs::path d = fs::temp_directory_path() /
-                     (std::string("hedra_clip_cli_") + std::to_string(::getpid()) + "_" + name);
-  fs::create_directories(d);
-  return d;
-}
+fs::path temp_dir(const char* name) { return hedra::testing::temp_dir(std::string("clip_cli_") + name); }
 
 void write(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 

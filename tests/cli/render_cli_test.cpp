@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "testing/cli_run.h"
+#include "testing/temp_files.h"
 #include "hedra/io/png.h"
 
 namespace {
@@ -21,8 +22,7 @@ using Result = hedra::testing::CliResult;
 Result run(const std::string& args) { return hedra::testing::run_hedra(args); }
 
 fs::path temp_dir() {
-  const fs::path d = fs::temp_directory_path() / ("hedra_render_cli_" + std::to_string(::getpid()));
-  fs::create_directories(d);
+  static const fs::path d = hedra::testing::temp_dir("render_cli");
   return d;
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "testing/cli_run.h"
+#include "testing/temp_files.h"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -22,9 +23,7 @@ using nlohmann::json;
 using Result = hedra::testing::CliResult;
 
 fs::path temp(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("hedra_shadows_cli_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  static const fs::path dir = hedra::testing::temp_dir("shadows_cli");
   return dir / name;
 }
 

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "testing/bad_files.h"
+#include "testing/temp_files.h"
 #include "hedra/core/error.h"
 #include "hedra/core/primitives.h"
 #include "hedra/core/transform.h"
@@ -20,11 +21,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_dir() {
-  fs::path d = fs::temp_directory_path() /
-               ("hedra_mesh_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-                "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  fs::create_directories(d);
-  return d;
+  return hedra::testing::temp_dir(std::string("mesh_io_") +
+                                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
 }
 
 std::vector<Body> sample_bodies() {

@@ -21,6 +21,7 @@
 #include "hedra/visibility/shadows.h"
 #include "hedra/core/smooth_surface.h"
 #include "hedra/render/shadow_map.h"
+#include "testing/temp_files.h"
 
 namespace hedra {
 namespace {
@@ -794,8 +795,7 @@ TEST(RenderExtremes, ScenesFrom1eMinus100To1e100RenderAndCastTheSameShadows) {
 }
 
 TEST(RasterImage, PngRoundTripAndAtomicWrite) {
-  const fs::path dir = fs::temp_directory_path() / "hedra_raster_png";
-  fs::create_directories(dir);
+  const fs::path dir = hedra::testing::temp_dir("raster_png");
   Image image;
   image.width = 5;
   image.height = 3;
