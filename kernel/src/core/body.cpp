@@ -29,6 +29,7 @@ struct Body::Impl {
   std::vector<std::array<int, 3>> supports;
   std::vector<Triangle> triangles;
   std::vector<double> face_areas;
+  std::vector<int> off_plane;  // Body::faces_off_plane()
   BodyMatrix matrix;
   Eigen::AlignedBox3d bbox;
   double scale = 0;
@@ -308,6 +309,7 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
   constexpr int kChunk = 2048;
   const int chunks = (n + kChunk - 1) / kChunk;
   std::vector<std::vector<Triangle>> chunk_triangles(static_cast<size_t>(chunks));
+  std::vector<std::vector<int>> chunk_off_plane(static_cast<size_t>(chunks));
   std::vector<std::pair<int, std::string>> chunk_error(static_cast<size_t>(chunks), {-1, {}});
   parallel_for(static_cast<size_t>(chunks), 0, [&](size_t chunk) {
     std::vector<Triangle>& out = chunk_triangles[chunk];
@@ -344,6 +346,7 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
         const Vec3& a = vertices[s[0]];
         const Vec3& b = vertices[s[1]];
         const Vec3& c = vertices[s[2]];
+        bool off_plane = false;
         for (const auto& loop : face.loops)
           for (int v : loop) {
             if (v == s[0] || v == s[1] || v == s[2]) continue;
@@ -352,7 +355,9 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
             if (off > tolerance)
               throw InvalidInput(where() + " is not planar: vertex " + str(v) + " is " + fmt(off) +
                                  " off its plane (tolerance " + fmt(tolerance) + ")");
+            off_plane = true;
           }
+        if (off_plane) chunk_off_plane[chunk].push_back(f);
         for (size_t l = 1; l < face.loops.size(); ++l)
           if (newell_normal(vertices, face.loops[l]).dot(unit) >= 0)
             throw InvalidInput(
@@ -382,6 +387,8 @@ Body::Body(std::vector<Vec3> vertices, std::vector<Face> faces, const BodyOption
       impl->triangles.insert(impl->triangles.end(), t.begin(), t.end());
       t = {};
     }
+    for (const auto& faces_off : chunk_off_plane)
+      impl->off_plane.insert(impl->off_plane.end(), faces_off.begin(), faces_off.end());
   }
 
   // Stage: repeated faces (same vertex set). Faces are sorted by a hash of their sorted vertex
@@ -482,6 +489,7 @@ const Plane& Body::plane(int f) const { return impl_->planes.at(f); }
 const BodyMatrix& Body::matrix() const { return impl_->matrix; }
 const std::array<int, 3>& Body::support(int f) const { return impl_->supports.at(f); }
 const std::vector<Triangle>& Body::triangles() const { return impl_->triangles; }
+const std::vector<int>& Body::faces_off_plane() const { return impl_->off_plane; }
 double Body::volume() const { return impl_->volume; }
 double Body::area() const { return impl_->area; }
 double Body::face_area(int f) const { return impl_->face_areas.at(f); }
@@ -595,6 +603,7 @@ Body Body::with_exact_solid_bytes(std::string_view bytes) const {
   impl->supports = from.supports;
   impl->triangles = from.triangles;
   impl->face_areas = from.face_areas;
+  impl->off_plane = from.off_plane;
   impl->matrix = from.matrix;
   impl->bbox = from.bbox;
   impl->scale = from.scale;

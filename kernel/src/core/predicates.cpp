@@ -1,5 +1,6 @@
 #include "hedra/core/predicates.h"
 
+#include "core/expansion.h"
 #include "core/filtered_sign.h"
 #include "core/exact_plane.h"
 
@@ -99,6 +100,9 @@ Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   // Mpzf costs a few hundred ns with allocations. Callers ask this often (a face's plane
   // against a neighbour list that holds the face's own corners).
   if (d == a || d == b || d == c || a == b || a == c || b == c) return Sign::Zero;
+  // Exactly zero (four exactly coplanar points: a planar quadrilateral) is what the filter
+  // leaves most; expansions decide it where the differences are exact, without Mpzf.
+  if (const auto s = internal::expansion::orient3d(a.data(), b.data(), c.data(), d.data(), true)) return *s;
   return det3_exact(a, b, c, d, true);
 }
 
@@ -123,6 +127,7 @@ Sign PlaneOrientation::operator()(const Vec3& x) const {
 
 Sign orient_direction(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   if (const auto s = det3_filter(b - a, c - a, d)) return *s;
+  if (const auto s = internal::expansion::orient3d(a.data(), b.data(), c.data(), d.data(), false)) return *s;
   return det3_exact(a, b, c, d, false);
 }
 

@@ -94,6 +94,11 @@ class Body {
   Sign face_side(int f, const Vec3& p) const;
   /// Triangulation of every face (no zero-area triangles).
   const std::vector<Triangle>& triangles() const;
+  /// The faces with a vertex off the plane of their support triple, accepted within the
+  /// planarity tolerance (a file's rotated quadrilaterals: planar only within rounding),
+  /// ascending; empty when every face is exactly planar. Such a face is exactly its triangles
+  /// (triangles()), each exactly planar. Recorded by the constructor's planarity check: O(1).
+  const std::vector<int>& faces_off_plane() const;
 
   double volume() const;
   double area() const;

@@ -26,7 +26,10 @@ inline Sign operator-(Sign s) { return static_cast<Sign>(-static_cast<int>(s)); 
 /// Sign of det[b − a, c − a, d − a] = (b − a)·((c − a) × (d − a)) … in the convention of
 /// CGAL::orientation: Positive when d lies on the side of plane (a, b, c) towards which
 /// (b − a) × (c − a) points. For a face whose loop runs counter-clockwise seen from outside
-/// (hedra's convention), Positive means "outside the face plane". Cost O(1).
+/// (hedra's convention), Positive means "outside the face plane". Stages: Shewchuk's static
+/// filter; equal points; an exact floating-point expansion where the differences are exact
+/// in double (an exactly zero determinant, which no filter decides, costs about sixty double
+/// operations); intervals, then Mpzf. Cost O(1).
 Sign orient3d(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 /// orient3d(a, b, c, x) for one plane (a, b, c) and many points x: the cross product
