@@ -225,19 +225,20 @@ void Roberts::prepare_bodies() {
         per_body[b].pieces.push_back(body);
         continue;
       }
-      if (body.two_sided() || (!brute && occludes_by_faces(body, options_.occluders))) {
-        // Closed, seen from outside: the faces turned to the viewpoint hide everything the body
-        // hides (hedra/visibility/occlusion.h, Occluders::Faces).
+      // Closed, seen from outside: the triangles turned to the viewpoint hide everything the
+      // body hides (hedra/visibility/occlusion.h, Occluders::Faces).
+      const auto occlude_by_faces = [&] {
         bd.faceted = true;
-        std::vector<char> front(bd.facing.size());
-        for (size_t f = 0; f < front.size(); ++f) front[f] = bd.facing[f] == Facing::Front;
-        per_body[b].triangles = face_triangles_of(body, front);
+        per_body[b].triangles = front_triangles_of(body, bd.facing, view_);
         if (bd.any_smooth) {
           bd.vertex_faces.assign(static_cast<size_t>(body.vertex_count()), {});
           for (int f = 0; f < body.face_count(); ++f)
             for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
               for (int v : loop) bd.vertex_faces[static_cast<size_t>(v)].push_back(f);
         }
+      };
+      if (body.two_sided() || (!brute && occludes_by_faces(body, options_.occluders))) {
+        occlude_by_faces();
         continue;
       }
       try {
@@ -250,6 +251,10 @@ void Roberts::prepare_bodies() {
             return true;
           };
         Decomposition d = decompose(body, decompose_options);
+        if (options_.occluders == Occluders::Auto && !brute && !pieces_exactly_convex(d)) {
+          occlude_by_faces();  // exact on the body's triangles, not on a rounded piece
+          continue;
+        }
         per_body[b].pieces = std::move(d.pieces);
         per_body[b].planes = std::move(d.piece_planes);
         per_body[b].exact = std::move(d.exact_pieces);
@@ -1063,7 +1068,8 @@ void Roberts::outline_of(int b, Scratch& scratch, EdgeOutput& out) const {
     }
     const auto keep = [&](const HlrPiece& o) {
       if (o.body != b) return true;
-      if (o.face >= 0) return !std::binary_search(near.begin(), near.end(), o.face);
+      // At a reflex smooth edge the faces around do hide it, as the pieces do (above).
+      if (o.face >= 0) return concave[static_cast<size_t>(s.face)] || !std::binary_search(near.begin(), near.end(), o.face);
       return !bd.convex && (concave[static_cast<size_t>(s.face)] || !outline_on_piece(o, n, s.a, s.b));
     };
     visible_parts(s.a, s.b, keep, scratch, out);

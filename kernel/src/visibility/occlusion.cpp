@@ -265,6 +265,21 @@ std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<
   return out;
 }
 
+std::vector<FaceTriangle> front_triangles_of(const Body& body, std::span<const Facing> faces,
+                                             const Viewpoint& view) {
+  const std::vector<int>& off_plane = body.faces_off_plane();
+  std::vector<char> wanted(faces.size());
+  for (size_t f = 0; f < wanted.size(); ++f) wanted[f] = faces[f] == Facing::Front;
+  for (int f : off_plane) wanted[static_cast<size_t>(f)] = 1;
+  std::vector<FaceTriangle> out = face_triangles_of(body, wanted);
+  if (off_plane.empty()) return out;
+  std::erase_if(out, [&](const FaceTriangle& t) {
+    return std::binary_search(off_plane.begin(), off_plane.end(), t.face) &&
+           facing(triangle_plane(t.corners), view) != Facing::Front;
+  });
+  return out;
+}
+
 ExactPlane triangle_plane(const std::array<Vec3, 3>& t) {
   size_t first = 0;
   for (size_t i = 1; i < 3; ++i)

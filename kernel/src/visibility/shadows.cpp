@@ -218,6 +218,10 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
         options.exact_pieces = true;
         options.prefer_exact_solid = true;  // a moved body: every piece exactly convex
         Decomposition d = decompose(bd.body, options);
+        if (m.occluders == Occluders::Auto && !pieces_exactly_convex(d)) {
+          bd.faceted = true;  // exact on the body's triangles, not on a rounded piece
+          return;
+        }
         pieces[b] = std::move(d.pieces);
         exact_planes[b] = std::move(d.piece_planes);
         exact_pieces[b] = std::move(d.exact_pieces);

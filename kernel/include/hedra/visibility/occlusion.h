@@ -122,14 +122,31 @@ OcclusionVolume triangle_occlusion_volume(const std::array<Vec3, 3>& t, const Ex
 ///    exactly in the plane through the viewpoint and an edge between two faces turned to it,
 ///    behind that edge, lies on the boundary of both triangles' open volumes and counts as
 ///    visible (the pieces' internal facets catch that case; docs/stability.md).
-///  - Auto: Faces for a body of more than kFaceOccluderFaces faces, Pieces otherwise.
+///  - Auto: Faces for a body of more than kFaceOccluderFaces faces, and for a body whose
+///    pieces would not be exact: one with faces planar only within rounding and no exact
+///    solid (a file's rotated part: Body::faces_off_plane(), decomposed with the rounding
+///    guard), or whose decomposition gives a piece that is not exactly convex
+///    (pieces_exactly_convex()). Its triangles are exactly planar, so it is then decided
+///    exactly as the polyhedron its triangles bound. Pieces otherwise.
 enum class Occluders { Auto, Pieces, Faces };
 inline constexpr int kFaceOccluderFaces = 4096;
 
-/// Whether a non-convex closed body occludes by its faces under `choice` (see Occluders).
+/// Whether a non-convex closed body occludes by its faces under `choice` (see Occluders),
+/// before any decomposition.
 inline bool occludes_by_faces(const Body& body, Occluders choice) {
   return choice == Occluders::Faces ||
-         (choice == Occluders::Auto && body.face_count() > kFaceOccluderFaces);
+         (choice == Occluders::Auto &&
+          (body.face_count() > kFaceOccluderFaces ||
+           (!body.has_exact_solid() && !body.faces_off_plane().empty())));
+}
+
+/// Whether every piece of a decomposition made with DecomposeOptions::exact_pieces is exactly
+/// convex (has its exact planes); Occluders::Auto takes the faces where one is not. Cost O(P).
+inline bool pieces_exactly_convex(const Decomposition& d) {
+  if (d.exact_pieces.size() != d.pieces.size()) return false;
+  for (const ExactConvex& e : d.exact_pieces)
+    if (e.faces.empty()) return false;
+  return true;
 }
 
 /// The triangles of a body's faces (Occluders::Faces): for each face f with wanted[f] (all
@@ -142,6 +159,14 @@ struct FaceTriangle {
   std::array<Vec3, 3> corners;
 };
 std::vector<FaceTriangle> face_triangles_of(const Body& body, const std::vector<char>& wanted = {});
+
+/// The triangles of a closed body turned to the viewpoint, for Occluders::Faces: those of the
+/// faces `faces` (one Facing per face, facing()) says are Front, and of a face off its plane
+/// (Body::faces_off_plane()) the triangles whose own plane is turned to it, decided on each
+/// triangle (such a face's triangles are an ulp off each other: one nearly edge-on can turn
+/// the other way). Cost O(T).
+std::vector<FaceTriangle> front_triangles_of(const Body& body, std::span<const Facing> faces,
+                                             const Viewpoint& view);
 
 /// The plane of a triangle's support triple, inner side Positive: its corners in their own
 /// order from the lexicographically smallest (support_triple), so it is exact_face_plane of a
