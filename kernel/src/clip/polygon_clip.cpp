@@ -399,13 +399,13 @@ class ExactPolygon {
     return on_[i] != 0;
   }
 
-  // The exact coefficients of the clipper's plane i, made once per clipping.
   // The exact coefficients of the polygon's plane, made once per clipping.
   const Row& own() {
     if (!own_) own_ = internal::exact_coefficients(plane_);
     return *own_;
   }
 
+  // The exact coefficients of the clipper's plane i, made once per clipping.
   const Row& row(int i) {
     if (rows_.empty()) rows_.resize(static_cast<size_t>(clipper_.plane_count()));
     auto& r = rows_[static_cast<size_t>(i)];

@@ -490,6 +490,9 @@ const BodyMatrix& Body::matrix() const { return impl_->matrix; }
 const std::array<int, 3>& Body::support(int f) const { return impl_->supports.at(f); }
 const std::vector<Triangle>& Body::triangles() const { return impl_->triangles; }
 const std::vector<int>& Body::faces_off_plane() const { return impl_->off_plane; }
+bool Body::face_off_plane(int f) const {
+  return !impl_->off_plane.empty() && std::binary_search(impl_->off_plane.begin(), impl_->off_plane.end(), f);
+}
 double Body::volume() const { return impl_->volume; }
 double Body::area() const { return impl_->area; }
 double Body::face_area(int f) const { return impl_->face_areas.at(f); }
@@ -643,10 +646,13 @@ Body Body::two_sided_polygon(std::vector<Vec3> polygon, double planarity_toleran
   std::reverse_copy(outer.begin(), outer.end(), inner.begin());
   std::array<int, 3> s{};
   Vec3 outward;
-  if (const std::string why = convex_face_defect(polygon, outer, planarity_tolerance, &s, &outward); !why.empty())
+  bool off_plane = false;
+  if (const std::string why = convex_face_defect(polygon, outer, planarity_tolerance, &s, &outward, &off_plane);
+      !why.empty())
     throw InvalidInput("a two-sided face " + why);
   auto impl = std::make_shared<Impl>();
   impl->two_sided = true;
+  if (off_plane) impl->off_plane = {0, 1};
   const double length = outward.norm();
   const Vec3 unit = outward / length;
   Vec3 centre = Vec3::Zero();
@@ -710,13 +716,16 @@ Body Body::two_sided_surface(const std::vector<Vec3>& vertices, const std::vecto
   impl->matrix.resize(4, 2 * F);
   // Per face: exact test, plane, support; in parallel chunks (a million faces).
   std::vector<std::string> defect(static_cast<size_t>(F));
+  std::vector<char> off_plane(static_cast<size_t>(F));
   std::vector<Vec3> centroid_part(static_cast<size_t>(F));
   parallel_chunks(static_cast<size_t>(F), 8192, [&](size_t, size_t begin, size_t end) {
     for (size_t f = begin; f != end; ++f) {
       const std::vector<int>& loop = loops[f];
       std::array<int, 3> s{};
       Vec3 outward;
-      defect[f] = convex_face_defect(used, loop, planarity_tolerance, &s, &outward);
+      bool off = false;
+      defect[f] = convex_face_defect(used, loop, planarity_tolerance, &s, &outward, &off);
+      off_plane[f] = off;
       if (!defect[f].empty()) continue;
       const double length = outward.norm();
       const Vec3 unit = outward / length;
@@ -738,6 +747,10 @@ Body Body::two_sided_surface(const std::vector<Vec3>& vertices, const std::vecto
   });
   for (int f = 0; f < F; ++f)
     if (!defect[static_cast<size_t>(f)].empty()) throw InvalidInput("face " + str(f) + " " + defect[static_cast<size_t>(f)]);
+  // Faces off their planes: each side (face f and its other side f + F), ascending.
+  for (int side = 0; side < 2; ++side)
+    for (int f = 0; f < F; ++f)
+      if (off_plane[static_cast<size_t>(f)]) impl->off_plane.push_back(f + side * F);
   // Edges: each directed edge of a face at most once; a pair a → b, b → a is an interior edge
   // (once on each side), an unpaired one a boundary edge joining a face to its other side.
   // Grouped by the smaller end (a counting sort), each group sorted by (other end, from,

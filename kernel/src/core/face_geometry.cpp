@@ -124,8 +124,10 @@ std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::
 }
 
 std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
-                               double planarity, std::array<int, 3>* support, Vec3* normal) {
+                               double planarity, std::array<int, 3>* support, Vec3* normal,
+                               bool* off_plane) {
   const size_t n = loop.size();
+  if (off_plane) *off_plane = false;
   if (n < 3) return "has fewer than 3 vertices";
   const Vec3 outward = newell_normal(vertices, loop);
   if (normal) *normal = outward;
@@ -141,9 +143,11 @@ std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vec
   const Vec3 unit_normal = outward.normalized();
   for (size_t i = 0; i < n; ++i) {
     const Vec3& p = at(loop[i]);
-    if (orient3d(a, b, c, p) != Sign::Zero &&
-        !(planarity > 0 && std::abs(unit_normal.dot(p - a)) <= planarity))
-      return "is not planar: vertex " + std::to_string(i) + " is off its plane";
+    if (orient3d(a, b, c, p) != Sign::Zero) {
+      if (!(planarity > 0 && std::abs(unit_normal.dot(p - a)) <= planarity))
+        return "is not planar: vertex " + std::to_string(i) + " is off its plane";
+      if (off_plane) *off_plane = true;
+    }
     const Vec3& q = at(loop[(i + 1) % n]);
     const Vec3& r = at(loop[(i + 2) % n]);
     // The corner at q turns like (a, b, c): lift lies on the same side of (p, q, r).

@@ -190,10 +190,8 @@ class Certificate {
   // support triple (three of the four) against the fourth, and q3 against (q0, q1, q2) and q2
   // against (q0, q1, q3), are all ±d with d = orient3d(q0, q1, q2, q3).
   FaceKind face_kind(int f) const {
-    // The constructor decided exact planarity already (Body::faces_off_plane(); a two-sided
-    // body's faces are not recorded there).
-    const std::vector<int>& off_plane = body_.faces_off_plane();
-    if (!body_.two_sided() && !std::binary_search(off_plane.begin(), off_plane.end(), f)) return kPlanar;
+    // The constructor decided exact planarity already (Body::faces_off_plane()).
+    if (!body_.face_off_plane(f)) return kPlanar;
     const Face& face = faces_[static_cast<size_t>(f)];
     const bool quad = face.loops.size() == 1 && face.loops[0].size() == 4;
     const Sign d = quad ? orient3d(p(face.loops[0][0]), p(face.loops[0][1]), p(face.loops[0][2]),

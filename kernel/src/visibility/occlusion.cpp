@@ -274,8 +274,7 @@ std::vector<FaceTriangle> front_triangles_of(const Body& body, std::span<const F
   std::vector<FaceTriangle> out = face_triangles_of(body, wanted);
   if (off_plane.empty()) return out;
   std::erase_if(out, [&](const FaceTriangle& t) {
-    return std::binary_search(off_plane.begin(), off_plane.end(), t.face) &&
-           facing(triangle_plane(t.corners), view) != Facing::Front;
+    return body.face_off_plane(t.face) && facing(triangle_plane(t.corners), view) != Facing::Front;
   });
   return out;
 }

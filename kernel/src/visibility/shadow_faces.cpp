@@ -168,28 +168,9 @@ ShadowFace make_face(const Body& body, int f) {
   }
   fd.centre = box.center();
   fd.radius = 0.5 * box.diagonal().norm();
-  // Exactly planar: every vertex but the support triple's on the plane, exactly. Polygon
-  // clipping then decides its vertices as they are. The constructor of a closed body decided
-  // it (Body::faces_off_plane()); a two-sided body's faces are tested here (no test for a
-  // triangle, nor for a face whose vertices share one coordinate).
-  if (!body.two_sided()) {
-    const std::vector<int>& off_plane = body.faces_off_plane();
-    fd.planar = !std::binary_search(off_plane.begin(), off_plane.end(), f);
-    convex_parts(body, f, fd);
-    return fd;
-  }
-  const auto& support = body.support(f);
-  const Vec3& first = fd.corners[0];
-  bool aligned[3] = {true, true, true};
-  for (const auto& loop : face.loops)
-    for (int id : loop)
-      for (int k = 0; k < 3; ++k)
-        aligned[k] = aligned[k] && body.vertices()[static_cast<size_t>(id)][k] == first[k];
-  if (!aligned[0] && !aligned[1] && !aligned[2])
-    for (const auto& loop : face.loops)
-      for (int id : loop)
-        if (fd.planar && id != support[0] && id != support[1] && id != support[2])
-          fd.planar = body.face_side(f, body.vertices()[static_cast<size_t>(id)]) == Sign::Zero;
+  // Exactly planar (the body's constructor decided it): polygon clipping then decides its
+  // vertices as they are.
+  fd.planar = !body.face_off_plane(f);
   convex_parts(body, f, fd);
   return fd;
 }

@@ -97,8 +97,11 @@ class Body {
   /// The faces with a vertex off the plane of their support triple, accepted within the
   /// planarity tolerance (a file's rotated quadrilaterals: planar only within rounding),
   /// ascending; empty when every face is exactly planar. Such a face is exactly its triangles
-  /// (triangles()), each exactly planar. Recorded by the constructor's planarity check: O(1).
+  /// (triangles()), each exactly planar. Recorded by the constructors' planarity checks
+  /// (two-sided bodies' too): O(1).
   const std::vector<int>& faces_off_plane() const;
+  /// Whether face f is in faces_off_plane(). Cost O(log of its size): O(1) when it is empty.
+  bool face_off_plane(int f) const;
 
   double volume() const;
   double area() const;

@@ -43,10 +43,11 @@ std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::
 /// distance of the plane of its support triple) and it is strictly convex (every corner turns
 /// as the support triple does); else "has zero area (its vertices are collinear)", "is not
 /// planar: vertex i is off its plane" or "is not strictly convex at vertex i", i the position
-/// in the loop. The support triple goes to `support`, the Newell normal to `normal`. Exact
-/// predicates; cost O(k).
+/// in the loop. The support triple goes to `support`, the Newell normal to `normal`, and to
+/// `off_plane` whether a corner lies off the support triple's plane (accepted within
+/// `planarity`: Body::faces_off_plane()). Exact predicates; cost O(k).
 std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
                                double planarity, std::array<int, 3>* support = nullptr,
-                               Vec3* normal = nullptr);
+                               Vec3* normal = nullptr, bool* off_plane = nullptr);
 
 }  // namespace hedra
