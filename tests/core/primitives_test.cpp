@@ -121,12 +121,31 @@ TEST(Primitives, SphereFacesAreExactlyPlanarAndItIsExactlyConvex) {
     // Symmetric to the bit: the centroid is the centre.
     EXPECT_LT(s.centroid().norm(), 1e-15);
   }
-  // About another centre: the rounding of the translated corners, with the exact image of the
-  // planar sphere (what Booleans and the exact decompositions use).
-  const Body moved = sphere({1, 2, 3}, 1.7, 0.01);
+  // About a centre near the origin (within about 4r) whose coordinates lie on the grid of the
+  // moved coordinates: snapped to a grid that the move keeps exact, so the body itself is
+  // exactly planar, with no exact solid of its own to carry. Reference: exact orientation of
+  // every quadrilateral, exact convexity, the distance to the centre.
+  for (const Vec3& c : {Vec3(1, 2, 3), Vec3(-1.5, 0, 1.5), Vec3(0.5, -0.25, 0)}) {
+    const double r = c.x() == -1.5 ? 1.5 : 1.7;
+    const Body s = sphere(c, r, 1e-3);
+    EXPECT_FALSE(s.has_exact_solid());
+    EXPECT_TRUE(s.faces_off_plane().empty());
+    const auto& v = s.vertices();
+    for (const Face& f : s.faces()) {
+      const auto& l = f.loops[0];
+      if (l.size() == 4) ASSERT_EQ(orient3d(v[l[0]], v[l[1]], v[l[2]], v[l[3]]), Sign::Zero) << c.transpose();
+    }
+    for (const Vec3& p : v) EXPECT_NEAR((p - c).norm(), r, kSphereSnap * r);
+    EXPECT_EQ(s.face_count(), sphere({0, 0, 0}, r, 1e-3).face_count());
+    EXPECT_TRUE(is_convex(s));
+  }
+  // Further away (or about a centre off that grid): the rounding of the translated corners,
+  // with the exact image of the planar sphere (what Booleans and the exact decompositions use).
+  EXPECT_TRUE(sphere({0.1, -0.3, 0}, 1.7, 0.01).has_exact_solid());  // 0.1: below that grid
+  const Body moved = sphere({10, 20, 30}, 1.7, 0.01);
   EXPECT_TRUE(moved.has_exact_solid());
   // The same exact solid as the sphere about the origin moved by transformed().
-  const Body reference = sphere({0, 0, 0}, 1.7, 0.01).transformed(Transform::translation({1, 2, 3}));
+  const Body reference = sphere({0, 0, 0}, 1.7, 0.01).transformed(Transform::translation({10, 20, 30}));
   EXPECT_EQ(moved.vertices(), reference.vertices());
   EXPECT_EQ(exact_volume_sign({{1, moved}, {-1, reference}}), Sign::Zero);
   EXPECT_NE(exact_volume_sign({{1, Body(moved.vertices(), moved.faces())}, {-1, reference}}), Sign::Zero);

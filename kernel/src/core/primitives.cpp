@@ -271,14 +271,28 @@ double with_bits(double x, int bits) {
 // line through the two meridian directions, a plane, whatever the rounding of c, C and S
 // (docs/primitives.md). Each vertex is within kSphereSnap·r (2^-23·r) of the sphere; the
 // coordinates keep the sphere's symmetries exactly (mirrored, not computed again).
-void sphere_mesh(double r, int rings, bool snapped, std::vector<Vec3>& v, std::vector<Face>& faces) {
+//
+// `grid` > 0: the directions rounded to multiples of 2^-grid and c_i to multiples of
+// 2^(E − grid), where r < 2^E ≤ 2r, instead (the grid sphere_grid_bits chooses): every product
+// c_i·u_j is then a multiple of 2^(E − 2·grid), which a translation keeps exact.
+void sphere_mesh(double r, int rings, bool snapped, std::vector<Vec3>& v, std::vector<Face>& faces,
+                 int grid = 0) {
   const int m = 2 * rings;
   const int trig_bits = snapped ? 26 : 53, radial_bits = snapped ? 27 : 53;
+  int radius_exponent = 0;
+  std::frexp(r, &radius_exponent);
+  const auto trig = [&](double x) {
+    return grid > 0 ? std::ldexp(std::nearbyint(std::ldexp(x, grid)), -grid) : with_bits(x, trig_bits);
+  };
+  const auto radial = [&](double x) {
+    return grid > 0 ? std::ldexp(std::nearbyint(std::ldexp(x, grid - radius_exponent)), radius_exponent - grid)
+                    : with_bits(x, radial_bits);
+  };
   std::vector<double> C(static_cast<size_t>(m)), S(static_cast<size_t>(m));
   for (int j = 0; 4 * j <= m; ++j) {  // the first quadrant, then its mirror images
     const double lambda = 2 * kPi * j / m;
-    const double c = 4 * j == m ? 0 : with_bits(std::cos(lambda), trig_bits);
-    const double s = j == 0 ? 0 : with_bits(std::sin(lambda), trig_bits);
+    const double c = 4 * j == m ? 0 : trig(std::cos(lambda));
+    const double s = j == 0 ? 0 : trig(std::sin(lambda));
     const int mirrored[4] = {j, rings - j, rings + j, m - j};
     const double nc = c == 0 ? 0.0 : -c, ns = s == 0 ? 0.0 : -s;  // no −0
     const double cs[4][2] = {{c, s}, {nc, s}, {nc, ns}, {c, ns}};
@@ -291,7 +305,7 @@ void sphere_mesh(double r, int rings, bool snapped, std::vector<Vec3>& v, std::v
   std::vector<double> ring_c(static_cast<size_t>(rings)), ring_z(static_cast<size_t>(rings));
   for (int i = 1; 2 * i <= rings; ++i) {  // the southern half, then its mirror image
     const double phi = -kPi / 2 + kPi * i / rings;
-    const double c = with_bits(r * std::cos(phi), radial_bits), z = 2 * i == rings ? 0 : r * std::sin(phi);
+    const double c = radial(r * std::cos(phi)), z = 2 * i == rings ? 0 : r * std::sin(phi);
     ring_c[static_cast<size_t>(i)] = ring_c[static_cast<size_t>(rings - i)] = c;
     ring_z[static_cast<size_t>(i)] = z;
     ring_z[static_cast<size_t>(rings - i)] = z == 0 ? 0.0 : -z;
@@ -311,6 +325,27 @@ void sphere_mesh(double r, int rings, bool snapped, std::vector<Vec3>& v, std::v
     for (int j = 0; j < m; ++j)
       faces.push_back(Face{ring(i, j), ring(i, j + 1), ring(i + 1, j + 1), ring(i + 1, j)});
   for (int j = 0; j < m; ++j) faces.push_back(Face{north, ring(rings - 1, j), ring(rings - 1, j + 1)});
+}
+
+// The grid of sphere_mesh for a sphere about `centre`, so that moving its vertices there is
+// exact: 25 bits, each vertex then within r·2^-26·(2 + √2) + 2 ulps of |centre| + r of the
+// sphere (< kSphereSnap·r), and every coordinate c_i·u_j a multiple of 2^(E − 50); or 0 where
+// the centre's horizontal coordinates are not multiples of the unit U of the moved coordinates
+// (the last place of 2·(max |centre| + r)), or U exceeds 2^(E − 50) (a centre further than
+// about 4r from the origin). Then x + centre_x is a sum of two multiples of U below 2^53·U:
+// a double exactly.
+int sphere_grid_bits(const Vec3& centre, double r) {
+  constexpr int kGrid = 25;
+  int radius_exponent = 0, e = 0;
+  std::frexp(r, &radius_exponent);
+  std::frexp(2 * (centre.cwiseAbs().maxCoeff() + r), &e);
+  const int unit = e - 53;  // U = 2^unit
+  if (unit > radius_exponent - 2 * kGrid) return 0;
+  for (int k = 0; k < 2; ++k) {
+    const double scaled = std::ldexp(centre[k], -unit);
+    if (scaled != std::nearbyint(scaled)) return 0;
+  }
+  return kGrid;
 }
 
 }  // namespace
@@ -361,6 +396,22 @@ Body sphere(const Vec3& centre, double radius, double tolerance, int max_faces) 
   }
   std::vector<Vec3> v;
   std::vector<Face> faces;
+  const int grid = snapped && centre != Vec3::Zero() ? sphere_grid_bits(centre, radius) : 0;
+  if (grid > 0) {
+    // Snapped to a grid the move keeps: the moved corners are the planar sphere moved exactly
+    // (checked: a coordinate the move rounded would leave a face planar only within rounding).
+    sphere_mesh(radius, rings, snapped, v, faces, grid);
+    bool exact = true;
+    for (Vec3& p : v) {
+      const Vec3 q = p + centre;
+      for (int k = 0; k < 2; ++k) {  // Knuth's two-sum: the rounding error of p_k + centre_k
+        const double b = q[k] - p[k];
+        exact = exact && (p[k] - (q[k] - b)) + (centre[k] - b) == 0;
+      }
+      p = q;
+    }
+    if (exact) return Body(std::move(v), std::move(faces));
+  }
   sphere_mesh(radius, rings, snapped, v, faces);
   if (centre == Vec3::Zero() || !snapped) {
     for (Vec3& p : v) p += centre;

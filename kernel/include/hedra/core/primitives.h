@@ -81,9 +81,11 @@ constexpr double kSphereSnap = 1.0 / (1 << 23);
 /// fans at the poles) with the fewest bands for which the largest distance from the sphere to
 /// the polyhedron is at most `tolerance`. Every face is exactly planar: the vertices are
 /// within kSphereSnap·r of the sphere, their coordinates about the centre rounded so that
-/// each band's quadrilaterals are planar in exact arithmetic (docs/primitives.md); a sphere
-/// about another centre is that one moved exactly (its rounded corners are planar within
-/// rounding, its Body::exact_solid() exactly). Below a tolerance of 2·kSphereSnap·r the
+/// each band's quadrilaterals are planar in exact arithmetic (docs/primitives.md). About a
+/// centre within about 4r of the origin, with coordinates on the grid of the moved ones, they
+/// are rounded to a grid that the move keeps exact, so the body is exactly planar as it is;
+/// about another centre it is the sphere about the origin moved exactly (its rounded corners
+/// are planar within rounding, its Body::exact_solid() exactly). Below a tolerance of 2·kSphereSnap·r the
 /// vertices lie on the sphere to the last bit and the faces are planar within rounding.
 /// \throw FaceBudgetExceeded beyond `max_faces` faces (2·rings² faces), InvalidInput below
 /// kMinRelativeTolerance·radius. Cost O(rings²) to choose the rings.
