@@ -95,9 +95,11 @@ def faces_scaling(results, docs, quick=False):
     if failures:
         lines += ["Failed: " + "; ".join(failures) + ".", ""]
     if mesh:
-        lines += ["The mesh: hedra's sphere (r = 1.5, t = 1.5e-5) written by `hedra convert` as OFF and "
-                  "each quad split into two triangles, in a scene with the slab. The quads are planar "
-                  "only within rounding, so many of the diagonals are a few ulps reflex: the body "
+        lines += ["The mesh: hedra's sphere (r = 1.5, t = 1.5e-5, about (−1.5, 0.001, 1.5)) written by "
+                  "`hedra convert` as OFF and each quad split into two triangles, in a scene with the slab. "
+                  "The centre is off the grid on which a moved sphere is snapped exactly planar "
+                  "(docs/primitives.md), so its corners are rounded as another tool's export would be: the "
+                  "quads are planar only within rounding, so many of the diagonals are a few ulps reflex: the body "
                   "is exactly non-convex: `info` lists its non-convex faces through the convex hull, and "
                   "`hlr`, `shadows` and `render` let it occlude by its faces, without a decomposition "
                   "(a closed non-convex mesh of more than 4096 faces; docs/hidden-lines.md).", ""]

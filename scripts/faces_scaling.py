@@ -156,11 +156,14 @@ def measure_star(hedra, n, work):
 
 def write_mesh(hedra, work):
     """A sphere of about 1 M triangles as an OFF file: hedra's own sphere converted (exact
-    doubles), each quad written as two triangles."""
+    doubles), each quad written as two triangles. Its centre's y is 1e-3, off the grid on
+    which sphere() snaps a moved sphere exactly planar (docs/primitives.md), so the corners
+    are rounded as another tool's export would be: quads planar only within rounding, whose
+    triangles do not merge back (about (-1.5, 0, 1.5) they would: an exactly convex sphere)."""
     src = os.path.join(work, "ball.json")
     with open(src, "w") as f:
         json.dump({"version": 1, "bodies": [{"name": "ball", "sphere": {
-            "center": [-1.5, 0, 1.5], "radius": 1.5, "tolerance": 1.5e-5, "max_faces": MAX_FACES}}]}, f)
+            "center": [-1.5, 1e-3, 1.5], "radius": 1.5, "tolerance": 1.5e-5, "max_faces": MAX_FACES}}]}, f)
     polys = os.path.join(work, "ball_polys.off")
     subprocess.run([hedra, "convert", src, polys], check=True, capture_output=True)
     with open(polys) as f:

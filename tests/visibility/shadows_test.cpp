@@ -257,6 +257,43 @@ TEST(Shadows, TouchingBodies) {
   EXPECT_NEAR(r.face(0, 0, kZMax).shadow_area, ref, 1e-12 * ref);
 }
 
+// Issue 14, "exact inside": two boxes stacked and rotated, read back from a file (rounded corners,
+// faces planar only within rounding), the lower's top face with the very corners of the upper's
+// bottom. Each occludes by the convex polyhedron its faces bound, cut into exactly planar faces
+// (exactly_planar_convex), not by its faces' support planes an ulp off it. Reference: the stack
+// is a convex block, so no face the light reaches receives a cast shadow (exactly 0) but the
+// lower's top, wholly under the upper box.
+TEST(Shadows, StackedRotatedBoxesReadBackCastNoShadowOnTheirLitFaces) {
+  std::mt19937 random(20261207);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int off_plane = 0;
+  for (int turn = 0; turn < 8; ++turn) {
+    const Transform t = Transform::rotation(Vec3(u(random), u(random), u(random)), 90 * (u(random) + 1.2),
+                                            Vec3(0.5, 0.5, 1));
+    const Body lower = box({0, 0, 0}, {1, 1, 1}).transformed(t);
+    const Body upper = box({0, 0, 1}, {1, 1, 2}).transformed(t);
+    Scene s;
+    s.add("lower", Body(lower.vertices(), lower.faces()));
+    s.add("upper", Body(upper.vertices(), upper.faces()));
+    off_plane += static_cast<int>(s.get("lower").body.faces_off_plane().size() + s.get("upper").body.faces_off_plane().size());
+    s.lights.push_back(Light::directional(Vec3(u(random), u(random), -1.5)));
+    s.lights.push_back(Light::point(Vec3(u(random), u(random), 6)));
+    const ShadowResult r = compute_shadows(s);
+    for (int l = 0; l < 2; ++l)
+      for (int b = 0; b < 2; ++b)
+        for (int f = 0; f < 6; ++f) {
+          const FaceShadow& fs = r.face(l, b, f);
+          if (fs.to_light != Facing::Front) continue;
+          const bool covered = (b == 0 && f == kZMax) || (b == 1 && f == kZMin);
+          if (covered)
+            EXPECT_NEAR(fs.shadow_area, fs.area, 1e-12) << "turn " << turn << " light " << l;
+          else
+            EXPECT_EQ(fs.shadow_area, 0) << "turn " << turn << " light " << l << " body " << b << " face " << f;
+        }
+  }
+  EXPECT_GT(off_plane, 0);
+}
+
 // ---- Non-convex casters ----
 
 TEST(Shadows, LPrismShadowsItselfAndTheGround) {

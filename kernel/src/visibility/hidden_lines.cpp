@@ -222,7 +222,16 @@ void Roberts::prepare_bodies() {
       bd.convex = one_face || (!body.two_sided() && is_convex(body));
       meter_.add();
       if (bd.convex) {
-        per_body[b].pieces.push_back(body);
+        // Faces off their planes: the convex polyhedron they bound cut into exactly planar
+        // faces occludes, not their support planes, an ulp off it.
+        std::optional<Body> split = exactly_planar_convex(body);
+        if (!split) {
+          per_body[b].pieces.push_back(body);
+          continue;
+        }
+        bd.piece_facing.resize(static_cast<size_t>(split->face_count()));
+        for (int f = 0; f < split->face_count(); ++f) bd.piece_facing[static_cast<size_t>(f)] = facing(*split, f, view_);
+        per_body[b].pieces.push_back(std::move(*split));
         continue;
       }
       // Closed, seen from outside: the triangles turned to the viewpoint hide everything the
@@ -347,7 +356,7 @@ void Roberts::prepare_bodies() {
 }
 
 void Roberts::build_volume(const HlrPiece& p) const {
-  p.volume = occlusion_volume(*p.piece, data_[static_cast<size_t>(p.body)].facing, view_);
+  p.volume = occlusion_volume(*p.piece, data_[static_cast<size_t>(p.body)].occluder_facing(), view_);
   p.occluder.volume = p.volume.clipper ? &*p.volume.clipper : nullptr;
 }
 
@@ -369,7 +378,7 @@ const LargeConvex& Roberts::silhouette_of(const HlrPiece& p) const {
   LargeConvex& l = *p.large;
   std::call_once(l.silhouette_once, [&] {
     const Body& body = *p.piece;
-    l.silhouette = silhouette_volume(body, data_[static_cast<size_t>(p.body)].facing, view_);
+    l.silhouette = silhouette_volume(body, data_[static_cast<size_t>(p.body)].occluder_facing(), view_);
     // Each vertex projected once; each front face's picture box from its outer loop (the
     // holes lie inside it), inflated by the culling margin like the pieces' boxes.
     std::vector<Vec2> picture(body.vertices().size());

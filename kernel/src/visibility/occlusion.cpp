@@ -6,6 +6,7 @@
 #include "hedra/core/error.h"
 #include "hedra/core/parallel.h"
 #include "hedra/core/predicates.h"
+#include "hedra/mesh/convexity.h"
 
 namespace hedra {
 
@@ -277,6 +278,34 @@ std::vector<FaceTriangle> front_triangles_of(const Body& body, std::span<const F
     return body.face_off_plane(t.face) && facing(triangle_plane(t.corners), view) != Facing::Front;
   });
   return out;
+}
+
+std::optional<Body> exactly_planar_convex(const Body& body) {
+  if (body.faces_off_plane().empty() || body.two_sided()) return std::nullopt;
+  const auto& v = body.vertices();
+  const auto p = [&v](int i) -> const Vec3& { return v[static_cast<size_t>(i)]; };
+  std::vector<Face> faces;
+  faces.reserve(body.faces().size() + body.faces_off_plane().size());
+  for (int f = 0; f < body.face_count(); ++f) {
+    const Face& face = body.faces()[static_cast<size_t>(f)];
+    if (!body.face_off_plane(f)) {
+      faces.push_back(face);
+      continue;
+    }
+    if (face.loops.size() != 1 || face.loops[0].size() != 4) return std::nullopt;
+    const auto& q = face.loops[0];
+    // Off its plane: q3 is not on the plane of q0, q1, q2 (nor any corner on the others').
+    if (orient3d(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
+      faces.push_back(Face{q[0], q[1], q[2]});
+      faces.push_back(Face{q[2], q[3], q[0]});
+    } else {
+      faces.push_back(Face{q[1], q[2], q[3]});
+      faces.push_back(Face{q[3], q[0], q[1]});
+    }
+  }
+  Body split(v, std::move(faces));
+  if (certify_convexity(split) != ConvexityCertificate::Convex) return std::nullopt;
+  return split;
 }
 
 ExactPlane triangle_plane(const std::array<Vec3, 3>& t) {

@@ -168,6 +168,10 @@ struct HlrBody {
   std::vector<EdgeClass> classes;  // per edge; empty: every edge sharp (crease angle 0)
   bool any_smooth = false;
   std::vector<Facing> facing;
+  // A convex body with faces off their planes: the facings of its one piece's faces
+  // (exactly_planar_convex cuts those faces in two); empty when the piece is the body.
+  std::vector<Facing> piece_facing;
+  const std::vector<Facing>& occluder_facing() const { return piece_facing.empty() ? facing : piece_facing; }
   // Exact face planes (junctions), built on demand (a deque: stable). Allocated on first use:
   // an empty std::deque takes about 600 bytes, a body of an open surface of a million faces.
   std::unique_ptr<std::deque<ExactPlane>> planes;

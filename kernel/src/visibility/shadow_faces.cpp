@@ -171,6 +171,22 @@ ShadowFace make_face(const Body& body, int f) {
   // Exactly planar (the body's constructor decided it): polygon clipping then decides its
   // vertices as they are.
   fd.planar = !body.face_off_plane(f);
+  const auto& loop = face.loops[0];
+  if (!fd.planar && face.loops.size() == 1 && loop.size() == 4) {
+    // Off its plane: its two triangles on their own planes, cut as the convexity certificate
+    // and exactly_planar_convex cut it (q3 strictly inside the plane of q0, q1, q2: q0–q2).
+    const auto& c = fd.corners;
+    const bool cut02 = orient3d(c[0], c[1], c[2], c[3]) == Sign::Negative;
+    const std::array<std::array<size_t, 3>, 2> t =
+        cut02 ? std::array<std::array<size_t, 3>, 2>{{{0, 1, 2}, {2, 3, 0}}}
+              : std::array<std::array<size_t, 3>, 2>{{{1, 2, 3}, {3, 0, 1}}};
+    fd.convex = false;
+    for (const auto& k : t) {
+      fd.parts.push_back({c[k[0]], c[k[1]], c[k[2]]});
+      fd.part_planes.push_back(triangle_plane({c[k[0]], c[k[1]], c[k[2]]}));
+    }
+    return fd;
+  }
   convex_parts(body, f, fd);
   return fd;
 }

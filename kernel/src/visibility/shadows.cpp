@@ -55,7 +55,8 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
   // thousands of nearly coincident corners sent the union to its exact fallback). The
   // decisions (sides of the plane, inside the part) are exact on the rounded projections.
   const auto project_triangle = [&](const ShadowPiece& piece) {
-    if (piece.convex) return false;
+    // (A face off its plane is clipped on its triangles instead.)
+    if (piece.convex || !fd.part_planes.empty()) return false;
     const auto& tv = piece.triangle;
     const Vec3& n = fd.normal;
     const double lit = view.at_infinity ? n.dot(view.direction) : n.dot(fd.anchor - view.point);
@@ -98,7 +99,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
       // the segment from the viewpoint to a point X of the face at X at most: it hides
       // nothing of it (on a tessellated sphere, the neighbours every front face meets).
       bool before = false;
-      for (const Vec3& c : piece.triangle) before = before || side_of_plane(fd.plane, c) == Sign::Negative;
+      for (const Vec3& c : piece.triangle) before = before || fd.outside(c);
       if (!before) return;
     }
     if (piece.face >= 0 && project_triangle(piece)) {
@@ -117,6 +118,14 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
       if (!inside) return;
     }
     const ConvexClipper& clipper = *volumes.volume_of(pieces, p).clipper;
+    if (!fd.part_planes.empty()) {
+      // Off its plane: each triangle on its own plane, its corners exactly on it.
+      for (size_t k = 0; k < fd.parts.size(); ++k)
+        if (clip_convex_polygon_open(fd.parts[k], fd.part_planes[k], fd.axis, true, clipper, clipped, scratch) &&
+            to_convex_ring(fd, clipped, ring))
+          out.push_back(ring);
+      return;
+    }
     fd.for_parts([&](const Polygon3& part) {
       if (clip_convex_polygon_open(part, fd.plane, fd.axis, fd.planar, clipper, clipped, scratch) &&
           to_convex_ring(fd, clipped, ring))
@@ -201,11 +210,19 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
     const bool one_face = bd.body.two_sided() && bd.body.face_count() == 2;
     bd.convex = one_face || (!bd.body.two_sided() && is_convex(bd.body));
     if (bd.convex) {
-      // The body is its one piece, with its faces' planes (a copy only here: 160 bytes a face).
+      // The body is its one piece, with its faces' planes (a copy only here: 160 bytes a face);
+      // with faces off their planes, the convex polyhedron they bound cut into exactly planar
+      // faces, not their support planes, an ulp off it.
       std::vector<ExactPlane> planes;
-      planes.reserve(bd.faces.size());
-      for (const ShadowFace& fd : bd.faces) planes.push_back(fd.plane);
-      pieces[b].push_back(bd.body);
+      if (std::optional<Body> split = exactly_planar_convex(bd.body)) {
+        planes.reserve(static_cast<size_t>(split->face_count()));
+        for (int f = 0; f < split->face_count(); ++f) planes.push_back(exact_face_plane(*split, f));
+        pieces[b].push_back(std::move(*split));
+      } else {
+        planes.reserve(bd.faces.size());
+        for (const ShadowFace& fd : bd.faces) planes.push_back(fd.plane);
+        pieces[b].push_back(bd.body);
+      }
       piece_planes[b].push_back(std::move(planes));
     } else if (bd.body.two_sided() || occludes_by_faces(bd.body, m.occluders)) {
       // Closed: the faces turned to a viewpoint hide everything the body hides from it

@@ -47,6 +47,18 @@ struct ShadowFace {
   ExactPlane plane;           // through the face's support triple: Positive inner (face_side)
   bool planar = true;         // every vertex exactly on `plane` (else planar within rounding)
   std::vector<Vec3> corners;  // the outer loop
+  // A quadrilateral off its plane: `parts` are its two triangles along the diagonal that keeps
+  // the body convex (exactly_planar_convex's), each on its own exact plane here, so that the
+  // face receives on the surface that occludes; empty: every part lies on `plane`.
+  std::vector<ExactPlane> part_planes;
+  // Strictly on the outer side of the face (of one of its parts' planes): a point that can lie
+  // between the viewpoint and some point of the face. Exact.
+  bool outside(const Vec3& p) const {
+    if (side_of_plane(plane, p) == Sign::Negative) return true;
+    for (const ExactPlane& q : part_planes)
+      if (side_of_plane(q, p) == Sign::Negative) return true;
+    return false;
+  }
 
   Vec3 lift(const Vec2& q) const {
     const int k = axis, i = (k + 1) % 3, j = (k + 2) % 3;
