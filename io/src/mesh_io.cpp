@@ -1,6 +1,10 @@
 #include "hedra/io/mesh_io.h"
 
 #include <algorithm>
+#include <array>
+#include <cstdio>
+#include <functional>
+#include <unordered_map>
 #include <cctype>
 #include <filesystem>
 #include <optional>
@@ -95,6 +99,42 @@ PolygonSoup soup_of(const std::vector<Body>& bodies, bool triangles_only) {
   return soup;
 }
 
+namespace {
+
+// STL stores no vertex numbers: a reader welds points of equal coordinates (as written: float32
+// in binary STL). Two bodies sharing such a point (stacked boxes) would read back as one
+// non-manifold mesh, which hedra rejects, so it does not write them. Cost O(V) expected.
+void require_apart_in_stl(const std::vector<Body>& bodies, const WriteOptions& options) {
+  if (bodies.size() < 2) return;
+  struct Hash {
+    size_t operator()(const std::array<double, 3>& p) const {
+      size_t h = 0;
+      for (double x : p) h = h * 0x9E3779B97F4A7C15ull + std::hash<double>()(x);
+      return h;
+    }
+  };
+  std::unordered_map<std::array<double, 3>, size_t, Hash> owner;
+  const auto name = [&](size_t b) {
+    return options.names.size() == bodies.size() ? "'" + options.names[b] + "'" : "#" + std::to_string(b);
+  };
+  for (size_t b = 0; b < bodies.size(); ++b)
+    for (const Vec3& p : bodies[b].vertices()) {
+      std::array<double, 3> key{p.x(), p.y(), p.z()};
+      if (!options.stl_ascii)
+        for (double& x : key) x = static_cast<float>(x);
+      const auto [it, inserted] = owner.try_emplace(key, b);
+      if (inserted || it->second == b) continue;
+      char where[96];
+      std::snprintf(where, sizeof where, "(%.9g, %.9g, %.9g)", key[0], key[1], key[2]);
+      throw InvalidInput("bodies " + name(it->second) + " and " + name(b) + " share the point " + where +
+                         (options.stl_ascii ? "" : " (in float32)") +
+                         ": STL welds equal points, so the file would read back as one non-manifold mesh; "
+                         "write OFF, OBJ, PLY or a scene file to keep them apart");
+    }
+}
+
+}  // namespace
+
 std::string format_bodies(const std::vector<Body>& bodies, MeshFormat format,
                           const WriteOptions& options) {
   switch (format) {
@@ -112,6 +152,7 @@ std::string format_bodies(const std::vector<Body>& bodies, MeshFormat format,
     }
     case MeshFormat::Ply: return format_ply(soup_of(bodies, false));
     case MeshFormat::Stl:
+      require_apart_in_stl(bodies, options);
       return options.stl_ascii ? format_stl_ascii(soup_of(bodies, true))
                                : format_stl_binary(soup_of(bodies, true));
   }
@@ -120,7 +161,14 @@ std::string format_bodies(const std::vector<Body>& bodies, MeshFormat format,
 
 void write_bodies(const std::vector<Body>& bodies, const std::string& path,
                   const WriteOptions& options) {
-  write_file_atomically(path, format_bodies(bodies, format_of(path), options));
+  const MeshFormat format = format_of(path);
+  std::string bytes;
+  try {
+    bytes = format_bodies(bodies, format, options);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(path + ": " + e.what());
+  }
+  write_file_atomically(path, bytes);
 }
 
 }  // namespace hedra::io

@@ -6,6 +6,7 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -119,6 +120,43 @@ TEST(MeshIo, TriangulatedStlBoxBecomesSixFaces) {
   ASSERT_EQ(back.size(), 1u);
   EXPECT_EQ(back[0].face_count(), 6);
   EXPECT_EQ(back[0].volume(), 6);
+}
+
+// hedra writes no file it would reject. STL has no vertex numbers (a reader welds equal points),
+// so two bodies sharing a point, stacked boxes, would read back as one mesh with non-manifold
+// edges ("inconsistent orientation or non-manifold edge"). Writing them is refused, naming the
+// file, the bodies and the point, and no file is left; OFF keeps them apart and reads back as two
+// bodies. Binary STL welds after rounding to float32: two points equal only in float32 count.
+TEST(MeshIo, BodiesSharingAPointAreNotWrittenToStl) {
+  const fs::path dir = temp_dir();
+  const std::vector<Body> stack{box({0, 0, 0}, {1, 1, 1}), box({0, 0, 1}, {1, 1, 2})};
+  io::WriteOptions named;
+  named.names = {"lower", "upper"};
+  for (bool ascii : {false, true}) {
+    io::WriteOptions o = named;
+    o.stl_ascii = ascii;
+    const std::string path = (dir / (ascii ? "a.stl" : "b.stl")).string();
+    try {
+      io::write_bodies(stack, path, o);
+      ADD_FAILURE() << "wrote " << path;
+    } catch (const InvalidInput& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(path + ": bodies 'lower' and 'upper' share the point (", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find("write OFF, OBJ, PLY or a scene file"), std::string::npos);
+    }
+    EXPECT_FALSE(fs::exists(path));
+  }
+  io::write_bodies(stack, (dir / "stack.off").string(), named);
+  EXPECT_EQ(io::read_bodies((dir / "stack.off").string()).size(), 2u);
+  // Apart (a gap of 1e-3): written and read back as two bodies.
+  const std::vector<Body> apart{box({0, 0, 0}, {1, 1, 1}), box({0, 0, 1.001}, {1, 1, 2})};
+  io::write_bodies(apart, (dir / "apart.stl").string(), named);
+  EXPECT_EQ(io::read_bodies((dir / "apart.stl").string()).size(), 2u);
+  // 1 + 2^-40 and 1 differ in double, not in float32: binary STL is refused, ASCII STL is not.
+  const std::vector<Body> close{box({0, 0, 0}, {1, 1, 1}), box({0, 0, 1 + std::ldexp(1.0, -40)}, {1, 1, 2})};
+  EXPECT_THROW(io::write_bodies(close, (dir / "close.stl").string()), InvalidInput);
+  io::WriteOptions ascii;
+  ascii.stl_ascii = true;
+  EXPECT_NO_THROW(io::write_bodies(close, (dir / "close_ascii.stl").string(), ascii));
 }
 
 TEST(MeshIo, BadFilesGiveNamedErrors) {
