@@ -180,4 +180,10 @@ std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vec
   return {};
 }
 
+std::array<std::array<int, 3>, 2> convex_quad_split(const Vec3& q0, const Vec3& q1, const Vec3& q2,
+                                                    const Vec3& q3) {
+  if (orient3d(q0, q1, q2, q3) == Sign::Negative) return {{{0, 1, 2}, {2, 3, 0}}};
+  return {{{1, 2, 3}, {3, 0, 1}}};
+}
+
 }  // namespace hedra

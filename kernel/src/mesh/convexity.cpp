@@ -201,6 +201,7 @@ class Certificate {
     if (!quad) return planar(face, body_.support(f)) ? kPlanar : kUnknown;
     // d ≠ 0, so no three of the four points are collinear: both triangles of either split are
     // proper.
+    // The split of convex_quad_split (hedra/core/face_geometry.h), from the same sign.
     return d == Sign::Negative ? kSplit02 : kSplit13;  // q3 strictly inside plane (q0, q1, q2),
                                                        // or q2 strictly inside (q0, q1, q3)
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "hedra/core/error.h"
+#include "hedra/core/face_geometry.h"
 #include "hedra/core/parallel.h"
 #include "hedra/core/predicates.h"
 #include "hedra/mesh/convexity.h"
@@ -294,14 +295,8 @@ std::optional<Body> exactly_planar_convex(const Body& body) {
     }
     if (face.loops.size() != 1 || face.loops[0].size() != 4) return std::nullopt;
     const auto& q = face.loops[0];
-    // Off its plane: q3 is not on the plane of q0, q1, q2 (nor any corner on the others').
-    if (orient3d(p(q[0]), p(q[1]), p(q[2]), p(q[3])) == Sign::Negative) {
-      faces.push_back(Face{q[0], q[1], q[2]});
-      faces.push_back(Face{q[2], q[3], q[0]});
-    } else {
-      faces.push_back(Face{q[1], q[2], q[3]});
-      faces.push_back(Face{q[3], q[0], q[1]});
-    }
+    for (const auto& t : convex_quad_split(p(q[0]), p(q[1]), p(q[2]), p(q[3])))
+      faces.push_back(Face{q[static_cast<size_t>(t[0])], q[static_cast<size_t>(t[1])], q[static_cast<size_t>(t[2])]});
   }
   Body split(v, std::move(faces));
   if (certify_convexity(split) != ConvexityCertificate::Convex) return std::nullopt;

@@ -5,6 +5,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "hedra/core/face_geometry.h"
 #include "hedra/core/tolerance.h"
 #include "visibility/shadows_internal.h"
 
@@ -173,17 +174,14 @@ ShadowFace make_face(const Body& body, int f) {
   fd.planar = !body.face_off_plane(f);
   const auto& loop = face.loops[0];
   if (!fd.planar && face.loops.size() == 1 && loop.size() == 4) {
-    // Off its plane: its two triangles on their own planes, cut as the convexity certificate
-    // and exactly_planar_convex cut it (q3 strictly inside the plane of q0, q1, q2: q0–q2).
+    // Off its plane: its two triangles (convex_quad_split, as Body::triangles() and the
+    // occluders take them), each on its own plane.
     const auto& c = fd.corners;
-    const bool cut02 = orient3d(c[0], c[1], c[2], c[3]) == Sign::Negative;
-    const std::array<std::array<size_t, 3>, 2> t =
-        cut02 ? std::array<std::array<size_t, 3>, 2>{{{0, 1, 2}, {2, 3, 0}}}
-              : std::array<std::array<size_t, 3>, 2>{{{1, 2, 3}, {3, 0, 1}}};
     fd.convex = false;
-    for (const auto& k : t) {
-      fd.parts.push_back({c[k[0]], c[k[1]], c[k[2]]});
-      fd.part_planes.push_back(triangle_plane({c[k[0]], c[k[1]], c[k[2]]}));
+    for (const auto& k : convex_quad_split(c[0], c[1], c[2], c[3])) {
+      const std::array<Vec3, 3> t{c[static_cast<size_t>(k[0])], c[static_cast<size_t>(k[1])], c[static_cast<size_t>(k[2])]};
+      fd.parts.push_back({t[0], t[1], t[2]});
+      fd.part_planes.push_back(triangle_plane(t));
     }
     return fd;
   }

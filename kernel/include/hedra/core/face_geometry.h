@@ -38,6 +38,15 @@ Vec3 oriented_normal(const std::vector<Vec3>& vertices, const std::vector<int>& 
 std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
                                   const Vec3& normal);
 
+/// A quadrilateral q0 q1 q2 q3 planar only within rounding as two triangles (positions 0…3 in
+/// its loop, each in the loop's turning order), cut along the diagonal that keeps the surface
+/// convex there: q0–q2 where q3 lies strictly on the inner side of the plane of q0, q1, q2
+/// (orient3d(q0, q1, q2, q3) < 0), else q1–q3. The one rule of the convexity certificate's split
+/// and of the exact occluders and receivers of hidden lines and shadows (exactly_planar_convex,
+/// shadows' faces); Body::triangles() triangulates the face without it. Exact; cost O(1).
+std::array<std::array<int, 3>, 2> convex_quad_split(const Vec3& q0, const Vec3& q1, const Vec3& q2,
+                                                    const Vec3& q3);
+
 /// Why `loop` is not a two-sided convex face (Body::two_sided_polygon, Body::two_sided_surface):
 /// empty when its corners are exactly coplanar (or, with `planarity` > 0, each within that
 /// distance of the plane of its support triple) and it is strictly convex (every corner turns
