@@ -185,25 +185,17 @@ class Certificate {
   const Vec3& p(int i) const { return v_[static_cast<size_t>(i)]; }
 
   // Stage 1 for face f: planar, a rounded quadrilateral split along diagonal q0–q2 (q3 strictly
-  // inside plane (q0, q1, q2)) or q1–q3, or not settled here.
-  // A quadrilateral needs one orientation: orient3d is alternating in its four points, so the
-  // support triple (three of the four) against the fourth, and q3 against (q0, q1, q2) and q2
-  // against (q0, q1, q3), are all ±d with d = orient3d(q0, q1, q2, q3).
+  // inside plane (q0, q1, q2)) or q1–q3 (convex_quad_split), or not settled here.
+  // A quadrilateral off its plane has d = orient3d(q0, q1, q2, q3) ≠ 0 (orient3d is alternating
+  // in its four points, so the support triple, three of the four, against the fourth is ±d):
+  // no three of its corners are collinear, and both triangles of either split are proper.
   FaceKind face_kind(int f) const {
     // The constructor decided exact planarity already (Body::faces_off_plane()).
     if (!body_.face_off_plane(f)) return kPlanar;
     const Face& face = faces_[static_cast<size_t>(f)];
-    const bool quad = face.loops.size() == 1 && face.loops[0].size() == 4;
-    const Sign d = quad ? orient3d(p(face.loops[0][0]), p(face.loops[0][1]), p(face.loops[0][2]),
-                                   p(face.loops[0][3]))
-                        : Sign::Zero;
-    if (quad && d == Sign::Zero) return kPlanar;  // the fourth point on the support triple's plane
-    if (!quad) return planar(face, body_.support(f)) ? kPlanar : kUnknown;
-    // d ≠ 0, so no three of the four points are collinear: both triangles of either split are
-    // proper.
-    // The split of convex_quad_split (hedra/core/face_geometry.h), from the same sign.
-    return d == Sign::Negative ? kSplit02 : kSplit13;  // q3 strictly inside plane (q0, q1, q2),
-                                                       // or q2 strictly inside (q0, q1, q3)
+    if (face.loops.size() != 1 || face.loops[0].size() != 4) return kUnknown;
+    const auto& q = face.loops[0];
+    return convex_quad_split(p(q[0]), p(q[1]), p(q[2]), p(q[3]))[0][0] == 0 ? kSplit02 : kSplit13;
   }
 
   // Stage 2 for one edge: nullopt when it is locally convex (or flat), else the verdict.
@@ -219,16 +211,6 @@ class Certificate {
     if (side == Sign::Positive) return reflex(e.left_face, e.right_face);
     if (side == Sign::Zero && !same_orientation(f1, g1)) return Verdict::Unknown;  // folded
     return std::nullopt;
-  }
-
-  bool planar(const Face& face, const std::array<int, 3>& s) const {
-    if (face.loops.size() == 1 && face.loops[0].size() == 3) return true;
-    for (const auto& loop : face.loops)
-      for (int x : loop)
-        if (x != s[0] && x != s[1] && x != s[2] &&
-            orient3d(p(s[0]), p(s[1]), p(s[2]), p(x)) != Sign::Zero)
-          return false;
-    return true;
   }
 
   // The piece of face f that carries the directed boundary edge a → b.

@@ -174,8 +174,8 @@ ShadowFace make_face(const Body& body, int f) {
   fd.planar = !body.face_off_plane(f);
   const auto& loop = face.loops[0];
   if (!fd.planar && face.loops.size() == 1 && loop.size() == 4) {
-    // Off its plane: its two triangles (convex_quad_split, as Body::triangles() and the
-    // occluders take them), each on its own plane.
+    // Off its plane: its two triangles (convex_quad_split, as a convex body's occluder,
+    // exactly_planar_convex, takes them), each on its own plane.
     const auto& c = fd.corners;
     fd.convex = false;
     for (const auto& k : convex_quad_split(c[0], c[1], c[2], c[3])) {

@@ -213,16 +213,18 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       // The body is its one piece, with its faces' planes (a copy only here: 160 bytes a face);
       // with faces off their planes, the convex polyhedron they bound cut into exactly planar
       // faces, not their support planes, an ulp off it.
+      // Its faces in body order, each face off its plane as its two triangles in the order of
+      // convex_quad_split: the planes the faces already have (ShadowFace::part_planes).
+      std::optional<Body> split = exactly_planar_convex(bd.body);
       std::vector<ExactPlane> planes;
-      if (std::optional<Body> split = exactly_planar_convex(bd.body)) {
-        planes.reserve(static_cast<size_t>(split->face_count()));
-        for (int f = 0; f < split->face_count(); ++f) planes.push_back(exact_face_plane(*split, f));
-        pieces[b].push_back(std::move(*split));
-      } else {
-        planes.reserve(bd.faces.size());
-        for (const ShadowFace& fd : bd.faces) planes.push_back(fd.plane);
-        pieces[b].push_back(bd.body);
+      planes.reserve(split ? static_cast<size_t>(split->face_count()) : bd.faces.size());
+      for (const ShadowFace& fd : bd.faces) {
+        if (split && !fd.part_planes.empty())
+          planes.insert(planes.end(), fd.part_planes.begin(), fd.part_planes.end());
+        else
+          planes.push_back(fd.plane);
       }
+      pieces[b].push_back(split ? std::move(*split) : bd.body);
       piece_planes[b].push_back(std::move(planes));
     } else if (bd.body.two_sided() || occludes_by_faces(bd.body, m.occluders)) {
       // Closed: the faces turned to a viewpoint hide everything the body hides from it
