@@ -6,6 +6,8 @@
 
 #include <CGAL/Exact_rational.h>
 
+#include <cstdint>
+#include <unordered_map>
 #include <utility>
 
 #include "hedra/core/predicates.h"
@@ -171,9 +173,9 @@ std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vec
   int changes = 0;
   for (size_t k = 1, last = first; first < n && k <= n; ++k) {
     const size_t i = (first + k) % n;
-    const int s = step_sign(i);
-    if (s == 0) continue;
-    changes += s != step_sign(last);
+    const int step = step_sign(i);
+    if (step == 0) continue;
+    changes += step != step_sign(last);
     last = i;
   }
   if (changes > 2) return "is not strictly convex: it winds round more than once (a star)";
@@ -184,6 +186,81 @@ std::array<std::array<int, 3>, 2> convex_quad_split(const Vec3& q0, const Vec3& 
                                                     const Vec3& q3) {
   if (orient3d(q0, q1, q2, q3) == Sign::Negative) return {{{0, 1, 2}, {2, 3, 0}}};
   return {{{1, 2, 3}, {3, 0, 1}}};
+}
+
+std::vector<std::array<int, 3>> convex_polygon_split(const std::vector<Vec3>& corners) {
+  const int k = static_cast<int>(corners.size());
+  if (k < 3) return {};
+  // Strictly convex seen along the dominant axis of the Newell normal: exact 2D orientations on
+  // the two kept coordinates, all the same sign and not zero.
+  Vec3 n = Vec3::Zero();
+  for (int i = 0; i < k; ++i)
+    n += (corners[static_cast<size_t>(i)] - corners[0]).cross(corners[static_cast<size_t>((i + 1) % k)] - corners[0]);
+  int axis = 0;
+  n.cwiseAbs().maxCoeff(&axis);
+  const auto flat = [&](int i) {
+    const Vec3& p = corners[static_cast<size_t>(i)];
+    return Vec2(p[(axis + 1) % 3], p[(axis + 2) % 3]);
+  };
+  const auto turn = [&](int a, int b, int c) { return orient2d(flat(a), flat(b), flat(c)); };
+  const Sign way = turn(k - 1, 0, 1);
+  if (way == Sign::Zero) return {};
+  for (int i = 1; i < k; ++i)
+    if (turn(i - 1, i, (i + 1) % k) != way) return {};
+  if (k == 3) return {{0, 1, 2}};
+  if (k == 4) {
+    const auto s = convex_quad_split(corners[0], corners[1], corners[2], corners[3]);
+    return {s[0], s[1]};
+  }
+  // The fan from corner 0, then Lawson's flips driven by a stack of diagonals to test. Triangle
+  // t has corners tri[t] in the loop's turning order; `owner` maps each directed edge a → b of a
+  // triangle to that triangle.
+  const auto p = [&](int i) -> const Vec3& { return corners[static_cast<size_t>(i)]; };
+  std::vector<std::array<int, 3>> tri;
+  tri.reserve(static_cast<size_t>(k - 2));
+  std::unordered_map<std::uint64_t, int> owner;
+  owner.reserve(static_cast<size_t>(3 * k));
+  const auto key = [](int a, int b) {
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) | static_cast<std::uint32_t>(b);
+  };
+  const auto add = [&](int t, const std::array<int, 3>& c) {
+    tri[static_cast<size_t>(t)] = c;
+    for (int e = 0; e < 3; ++e) owner[key(c[static_cast<size_t>(e)], c[static_cast<size_t>((e + 1) % 3)])] = t;
+  };
+  std::vector<std::pair<int, int>> stack;  // diagonals u → v (either direction) to test
+  for (int i = 1; i + 1 < k; ++i) {
+    tri.push_back({});
+    add(i - 1, {0, i, i + 1});
+    if (i > 1) stack.push_back({0, i});
+  }
+  const auto opposite = [&](int t, int a, int b) {
+    for (int c : tri[static_cast<size_t>(t)])
+      if (c != a && c != b) return c;
+    return -1;
+  };
+  const auto side = [k](int a, int b) { return (b - a + k) % k == 1 || (a - b + k) % k == 1; };
+  long flips = 0;
+  const long limit = static_cast<long>(k) * k;
+  while (!stack.empty()) {
+    const auto [u, v] = stack.back();
+    stack.pop_back();
+    const auto a = owner.find(key(u, v)), b = owner.find(key(v, u));
+    if (a == owner.end() || b == owner.end()) continue;  // flipped away since it was pushed
+    const int t = a->second, s = b->second;
+    const int w1 = opposite(t, u, v), w2 = opposite(s, v, u);
+    // Triangle u v w1 (in turning order), its neighbour's far corner w2: convex or flat there
+    // when w2 is not strictly outside the triangle's plane.
+    if (orient3d(p(u), p(v), p(w1), p(w2)) != Sign::Positive) continue;
+    if (++flips > limit) return {};
+    // The quadrilateral v w1 u w2 takes the other diagonal, w1–w2.
+    owner.erase(key(u, v));
+    owner.erase(key(v, u));
+    add(t, {w1, u, w2});
+    add(s, {w2, v, w1});
+    for (const auto& [x, y] : {std::pair{w1, u}, std::pair{u, w2}, std::pair{w2, v}, std::pair{v, w1}})
+      if (!side(x, y)) stack.push_back({x, y});
+  }
+  return tri;
 }
 
 }  // namespace hedra

@@ -293,9 +293,14 @@ std::optional<Body> exactly_planar_convex(const Body& body) {
       faces.push_back(face);
       continue;
     }
-    if (face.loops.size() != 1 || face.loops[0].size() != 4) return std::nullopt;
+    if (face.loops.size() != 1) return std::nullopt;
     const auto& q = face.loops[0];
-    for (const auto& t : convex_quad_split(p(q[0]), p(q[1]), p(q[2]), p(q[3])))
+    std::vector<Vec3> corners;
+    corners.reserve(q.size());
+    for (int i : q) corners.push_back(p(i));
+    const std::vector<std::array<int, 3>> split = convex_polygon_split(corners);
+    if (split.empty()) return std::nullopt;
+    for (const auto& t : split)
       faces.push_back(Face{q[static_cast<size_t>(t[0])], q[static_cast<size_t>(t[1])], q[static_cast<size_t>(t[2])]});
   }
   Body split(v, std::move(faces));

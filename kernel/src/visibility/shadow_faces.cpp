@@ -172,18 +172,20 @@ ShadowFace make_face(const Body& body, int f) {
   // Exactly planar (the body's constructor decided it): polygon clipping then decides its
   // vertices as they are.
   fd.planar = !body.face_off_plane(f);
-  const auto& loop = face.loops[0];
-  if (!fd.planar && face.loops.size() == 1 && loop.size() == 4) {
-    // Off its plane: its two triangles (convex_quad_split, as a convex body's occluder,
-    // exactly_planar_convex, takes them), each on its own plane.
+  if (!fd.planar && face.loops.size() == 1) {
+    // Off its plane and convex: its triangles (convex_polygon_split, as a convex body's
+    // occluder, exactly_planar_convex, takes them), each on its own plane.
     const auto& c = fd.corners;
-    fd.convex = false;
-    for (const auto& k : convex_quad_split(c[0], c[1], c[2], c[3])) {
-      const std::array<Vec3, 3> t{c[static_cast<size_t>(k[0])], c[static_cast<size_t>(k[1])], c[static_cast<size_t>(k[2])]};
-      fd.parts.push_back({t[0], t[1], t[2]});
-      fd.part_planes.push_back(triangle_plane(t));
+    const std::vector<std::array<int, 3>> split = convex_polygon_split(c);
+    if (!split.empty()) {
+      fd.convex = false;
+      for (const auto& k : split) {
+        const std::array<Vec3, 3> t{c[static_cast<size_t>(k[0])], c[static_cast<size_t>(k[1])], c[static_cast<size_t>(k[2])]};
+        fd.parts.push_back({t[0], t[1], t[2]});
+        fd.part_planes.push_back(triangle_plane(t));
+      }
+      return fd;
     }
-    return fd;
   }
   convex_parts(body, f, fd);
   return fd;

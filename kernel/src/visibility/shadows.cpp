@@ -213,8 +213,8 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       // The body is its one piece, with its faces' planes (a copy only here: 160 bytes a face);
       // with faces off their planes, the convex polyhedron they bound cut into exactly planar
       // faces, not their support planes, an ulp off it.
-      // Its faces in body order, each face off its plane as its two triangles in the order of
-      // convex_quad_split: the planes the faces already have (ShadowFace::part_planes).
+      // Its faces in body order, each face off its plane as its triangles in the order of
+      // convex_polygon_split: the planes the faces already have (ShadowFace::part_planes).
       std::optional<Body> split = exactly_planar_convex(bd.body);
       std::vector<ExactPlane> planes;
       planes.reserve(split ? static_cast<size_t>(split->face_count()) : bd.faces.size());

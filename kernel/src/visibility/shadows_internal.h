@@ -47,8 +47,8 @@ struct ShadowFace {
   ExactPlane plane;           // through the face's support triple: Positive inner (face_side)
   bool planar = true;         // every vertex exactly on `plane` (else planar within rounding)
   std::vector<Vec3> corners;  // the outer loop
-  // A quadrilateral off its plane: `parts` are its two triangles along the diagonal that keeps
-  // the body convex (exactly_planar_convex's), each on its own exact plane here, so that the
+  // A convex face off its plane: `parts` are its triangles along the diagonals that keep the
+  // body convex (convex_polygon_split, exactly_planar_convex's), each on its own exact plane here, so that the
   // face receives on the surface that occludes; empty: every part lies on `plane`.
   std::vector<ExactPlane> part_planes;
   // Strictly on the outer side of the face (of one of its parts' planes): a point that can lie

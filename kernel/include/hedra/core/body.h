@@ -96,9 +96,12 @@ class Body {
   const std::vector<Triangle>& triangles() const;
   /// The faces with a vertex off the plane of their support triple, accepted within the
   /// planarity tolerance (a file's rotated quadrilaterals: planar only within rounding),
-  /// ascending; empty when every face is exactly planar. Such a face is exactly its triangles
-  /// (triangles()), each exactly planar. Recorded by the constructors' planarity checks
-  /// (two-sided bodies' too): O(1).
+  /// ascending; empty when every face is exactly planar. Exact consumers take such a face as
+  /// exactly planar triangles: those of triangles() (the occluders of a non-convex body, its
+  /// exact-planes decomposition), or, where the body is convex, the ones that keep it convex
+  /// (convex_polygon_split in hedra/core/face_geometry.h: the convexity certificate, the
+  /// occluders and receivers of hidden lines and shadows), which need not be the same.
+  /// Recorded by the constructors' planarity checks (two-sided bodies' too): O(1).
   const std::vector<int>& faces_off_plane() const;
   /// Whether face f is in faces_off_plane(). Cost O(log of its size): O(1) when it is empty.
   bool face_off_plane(int f) const;

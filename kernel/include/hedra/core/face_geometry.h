@@ -47,6 +47,22 @@ std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::
 std::array<std::array<int, 3>, 2> convex_quad_split(const Vec3& q0, const Vec3& q1, const Vec3& q2,
                                                     const Vec3& q3);
 
+/// A convex polygon planar only within rounding (a rotated cylinder's cap read back from a
+/// file) as triangles (positions in its loop, each in the loop's turning order) whose surface
+/// is convex toward the outside: every diagonal between two triangles has the far corner of the
+/// one on the inner side of the other's plane or on it (orient3d(a, b, c, d) ≤ 0 for a triangle
+/// a b c and the far corner d of its neighbour), so the triangles are the outer side of the
+/// convex hull of the corners, the one polyhedral surface through them that a convex body can
+/// have. Quadrilaterals: convex_quad_split. Larger polygons: a fan, then Lawson's flips of the
+/// diagonals that fold outward; in a strictly convex polygon every flip is legal and, as for
+/// Delaunay flips under the lifting map, they end at the locally, hence globally, convex
+/// surface. Empty when the polygon, projected along its dominant normal axis, is not strictly
+/// convex (every corner turning as the first does), or the flips have not ended after k² (they
+/// never need that many on a strictly convex polygon). Exact; cost O(k) orient2d, then O(k)
+/// orient3d and hashed edge lookups plus O(1) a flip, at most k² flips (a handful per diagonal
+/// on rotated caps).
+std::vector<std::array<int, 3>> convex_polygon_split(const std::vector<Vec3>& corners);
+
 /// Why `loop` is not a two-sided convex face (Body::two_sided_polygon, Body::two_sided_surface):
 /// empty when its corners are exactly coplanar (or, with `planarity` > 0, each within that
 /// distance of the plane of its support triple) and it is strictly convex (every corner turns

@@ -150,15 +150,16 @@ inline bool pieces_exactly_convex(const Decomposition& d) {
 }
 
 /// A convex body with faces off their planes (Body::faces_off_plane(): a file's rotated box,
-/// planar only within rounding) as the convex polyhedron its occlusion volume needs: each such
-/// face, a quadrilateral, cut into two triangles along the diagonal that keeps the body convex
-/// (q0–q2 where q3 lies strictly on the inner side of the plane of q0, q1, q2, else q1–q3: the
-/// convexity certificate's split), every other face as it is. Every face of the result is
-/// exactly planar, so an occlusion volume of its planes is the volume of the polyhedron the
-/// certificate proved convex, where the faces' support planes would bound a body an ulp off it.
-/// std::nullopt when the body has no face off its plane, is two-sided, has such a face that is
-/// not a quadrilateral, or the result is not certified convex (then its support planes stand).
-/// Cost O(F) (a Body and its convexity certificate).
+/// planar only within rounding; a rotated cylinder's caps) as the convex polyhedron its
+/// occlusion volume needs: each such face cut into triangles along the diagonals that keep the
+/// body convex (convex_polygon_split: for a quadrilateral q0–q2 where q3 lies strictly on the
+/// inner side of the plane of q0, q1, q2, else q1–q3, the convexity certificate's split), every
+/// other face as it is. Every face of the result is exactly planar, so an occlusion volume of
+/// its planes is the volume of the polyhedron the certificate proved convex, where the faces'
+/// support planes would bound a body an ulp off it. std::nullopt when the body has no face off
+/// its plane, is two-sided, has such a face that convex_polygon_split does not cut (not
+/// strictly convex in projection), or the result is not certified convex (then its support
+/// planes stand). Cost O(F) (a Body and its convexity certificate) plus the splits.
 std::optional<Body> exactly_planar_convex(const Body& convex_body);
 
 /// The triangles of a body's faces (Occluders::Faces): for each face f with wanted[f] (all
