@@ -133,6 +133,26 @@ void require_apart_in_stl(const std::vector<Body>& bodies, const WriteOptions& o
     }
 }
 
+// Binary STL stores float32 corners: a body whose rounding to float32 is not a valid body (two
+// vertices become one point, a face collapses to a line, the surface touches itself: features
+// below about 1e-7 of the coordinates) would be written as a file no reader takes for the solid
+// it was. So the bytes are read back as hedra reads a file, and must give as many valid bodies
+// as were written. Cost: one read of the file, O(T log T) (its self-intersection test).
+void require_readable_stl(const std::string& bytes, size_t bodies) {
+  const char* const fix = "; ASCII STL (which keeps doubles), OFF, OBJ, PLY or a scene file keep it";
+  std::vector<Body> back;
+  try {
+    back = bodies_from_soup(parse_stl("STL", bytes));
+    if (const auto hit = self_intersection(back))
+      throw InvalidInput("the surface intersects itself: " + *hit);
+  } catch (const InvalidInput& e) {
+    throw InvalidInput(std::string("rounded to float32 (binary STL), the bodies would not read back: ") + e.what() + fix);
+  }
+  if (back.size() != bodies)
+    throw InvalidInput("rounded to float32 (binary STL), the " + std::to_string(bodies) + " bodies would read back as " +
+                       std::to_string(back.size()) + fix);
+}
+
 }  // namespace
 
 std::string format_bodies(const std::vector<Body>& bodies, MeshFormat format,
@@ -153,8 +173,12 @@ std::string format_bodies(const std::vector<Body>& bodies, MeshFormat format,
     case MeshFormat::Ply: return format_ply(soup_of(bodies, false));
     case MeshFormat::Stl:
       require_apart_in_stl(bodies, options);
-      return options.stl_ascii ? format_stl_ascii(soup_of(bodies, true))
-                               : format_stl_binary(soup_of(bodies, true));
+      if (options.stl_ascii) return format_stl_ascii(soup_of(bodies, true));
+      {
+        std::string bytes = format_stl_binary(soup_of(bodies, true));
+        require_readable_stl(bytes, bodies.size());
+        return bytes;
+      }
   }
   throw InvalidInput("unknown mesh format");
 }

@@ -159,6 +159,40 @@ TEST(MeshIo, BodiesSharingAPointAreNotWrittenToStl) {
   EXPECT_NO_THROW(io::write_bodies(close, (dir / "close_ascii.stl").string(), ascii));
 }
 
+// A body valid in double whose float32 rounding is not a body: a plate 1e-5 thick at x = 1000,
+// where float32's step is 6.1e-5, so its two sides round to one plane and every side face
+// collapses. Binary STL would hold a flat, invalid mesh; it is refused, nothing is written, and
+// ASCII STL (doubles) and OFF read back as the plate. A plate 1e-3 thick there (16 steps) is
+// written as binary STL and reads back as one body of the same volume within float32's rounding.
+TEST(MeshIo, BodyThatFloat32RoundingBreaksIsNotWrittenToBinaryStl) {
+  const fs::path dir = temp_dir();
+  const std::vector<Body> thin{box({1000, 0, 0}, {1000.00001, 1, 1})};
+  const std::string path = (dir / "thin.stl").string();
+  try {
+    io::write_bodies(thin, path);
+    ADD_FAILURE() << "wrote " << path;
+  } catch (const InvalidInput& e) {
+    const std::string message = e.what();
+    EXPECT_EQ(message.rfind(path + ": rounded to float32 (binary STL), the bodies would not read back: ", 0), 0u) << message;
+    EXPECT_NE(message.find("ASCII STL (which keeps doubles), OFF, OBJ, PLY or a scene file keep it"), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+  }
+  EXPECT_FALSE(fs::exists(path));
+  io::WriteOptions ascii;
+  ascii.stl_ascii = true;
+  for (const std::string name : {"thin_ascii.stl", "thin.off"}) {
+    io::write_bodies(thin, (dir / name).string(), ascii);
+    const std::vector<Body> back = io::read_bodies((dir / name).string());
+    ASSERT_EQ(back.size(), 1u) << name;
+    EXPECT_EQ(back[0].volume(), thin[0].volume()) << name;
+  }
+  const std::vector<Body> plate{box({1000, 0, 0}, {1000.001, 1, 1})};
+  io::write_bodies(plate, (dir / "plate.stl").string());
+  const std::vector<Body> back = io::read_bodies((dir / "plate.stl").string());
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_NEAR(back[0].volume(), plate[0].volume(), 2 * 6.2e-5);  // each side within half a step
+}
+
 TEST(MeshIo, BadFilesGiveNamedErrors) {
   const fs::path dir = temp_dir();
   testing::write_bad_files(dir);
