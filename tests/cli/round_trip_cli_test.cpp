@@ -8,6 +8,7 @@
 // base vertices snapped off the contact plane by ulps (a junction line appears; docs/stability.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -182,5 +183,22 @@ TEST_F(RoundTrip, StlAscii) { check("r.stl", "--stl-ascii", "--tolerance 1e-9", 
 // reader's --tolerance (well above the rounding, far below the features) merges them back into
 // the original faces. Results agree to the rounding: 1e-5 relative.
 TEST_F(RoundTrip, StlBinaryFloat32) { check("r32.stl", "", "--tolerance 1e-5", 1e-5, 0.005); }
+
+// What float32 cannot hold is not written: a plate 1e-5 thick at x = 1000 (float32's step there
+// is 6.1e-5) would collapse to a flat mesh no command reads. `convert` to binary STL exits 3 with
+// one line naming the file and writes nothing; to ASCII STL it writes the plate, which reads back.
+TEST_F(RoundTrip, BodyFloat32CannotHoldIsNotWrittenToBinaryStl) {
+  const std::string thin = hedra::testing::write(
+      dir_ / "thin.json", R"({"bodies": [{"name": "thin", "box": {"min": [1000, 0, 0], "max": [1000.00001, 1, 1]}}]})");
+  const fs::path out = dir_ / "thin.stl";
+  const auto c = run_hedra("convert " + thin + " " + out.string());
+  EXPECT_EQ(c.code, 3) << c.err;
+  EXPECT_EQ(c.err.rfind("hedra: error: " + out.string() + ": rounded to float32 (binary STL), the bodies would not read back: ", 0), 0u) << c.err;
+  EXPECT_EQ(std::count(c.err.begin(), c.err.end(), '\n'), 1) << c.err;
+  EXPECT_FALSE(fs::exists(out));
+  const auto a = run_hedra("convert " + thin + " " + out.string() + " --stl-ascii");
+  ASSERT_EQ(a.code, 0) << a.err;
+  EXPECT_EQ(run_hedra("info " + out.string()).code, 0);
+}
 
 }  // namespace
