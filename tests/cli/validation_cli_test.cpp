@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "hedra/core/primitives.h"
 #include "testing/cli_run.h"
 #include "testing/temp_files.h"
@@ -187,6 +189,55 @@ TEST(ValidationCli, CloseAndTouchingButValidMeshesAreAccepted) {
   const Result r = run("info " + two);
   EXPECT_NE(r.out.find("two#0"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("two#1"), std::string::npos) << r.out;
+}
+
+// ASCII STL text of triangles (STL's readers weld equal points).
+std::string stl(const std::vector<std::array<double, 3>>& v, const std::vector<std::array<int, 3>>& t) {
+  std::string s = "solid needles\n";
+  char buf[160];
+  for (const auto& tri : t) {
+    s += "facet normal 0 0 0\nouter loop\n";
+    for (int i : tri) {
+      const auto& p = v[static_cast<size_t>(i)];
+      std::snprintf(buf, sizeof buf, "vertex %.17g %.17g %.17g\n", p[0], p[1], p[2]);
+      s += buf;
+    }
+    s += "endloop\nendfacet\n";
+  }
+  return s + "endsolid needles\n";
+}
+
+// Issue 14, item 2: a mesher's T-junction filler, a needle triangle of three distinct collinear
+// corners (here one on each of two edges of a 2 × 2 × 1 box, float32-exact coordinates far from
+// the origin), has no plane, and every command rejected the mesh ("polygon 7 has zero area").
+// The surface is the box: every command accepts it, and `info` gives the box's volume. A needle
+// in a surface that lies on itself elsewhere is rejected as that surface is.
+TEST(ValidationCli, NeedleTrianglesOfAClosedMeshAreAcceptedByEveryCommand) {
+  const fs::path dir = temp_dir("needle");
+  std::vector<std::array<double, 3>> v{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}, {0, 0, 1},
+                                       {2, 0, 1}, {2, 2, 1}, {0, 2, 1}, {1, 0, 1}, {1, 0, 0}};
+  for (auto& p : v) p = {p[0] + 1000, p[1] - 250, p[2] + 8};
+  std::vector<std::array<int, 3>> t{{0, 3, 2}, {0, 2, 1}, {4, 8, 7}, {8, 6, 7}, {8, 5, 6}, {0, 9, 5}, {9, 1, 5},
+                                    {0, 5, 4}, {4, 5, 8}, {0, 1, 9}, {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6},
+                                    {3, 0, 4}, {3, 4, 7}};
+  const std::string needles = write(dir / "needles.stl", stl(v, t));
+  expect_accepted_everywhere(needles, dir);
+  const Result r = run("info --json " + needles);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json info = nlohmann::json::parse(r.out);
+  ASSERT_EQ(info["bodies"].size(), 1u);
+  EXPECT_EQ(info["bodies"][0]["volume"].get<double>(), 4);
+  EXPECT_EQ(info["bodies"][0]["faces"].get<int>(), 6);
+  // The top's fan about a corner put outside the top: one triangle turns over.
+  v.push_back({1003, -249, 9});  // 10
+  t[2] = {4, 8, 10};
+  t[3] = {8, 5, 10};
+  t[4] = {5, 6, 10};
+  t.push_back({6, 7, 10});
+  t.push_back({7, 4, 10});
+  const fs::path folded = temp_dir("needle_fold");
+  const std::string fold = write(folded / "fold.stl", stl(v, t));
+  expect_rejected_everywhere(fold, folded, {fold + ": the surface intersects itself"});
 }
 
 // A binary STL (float32) of the L block rotated about a generic axis: its quadrilaterals are

@@ -6,6 +6,8 @@
 #include "hedra/core/predicates.h"
 #include "hedra/core/primitives.h"
 #include "hedra/core/triangulate.h"
+#include "hedra/mesh/convexity.h"
+#include "hedra/mesh/self_intersection.h"
 #include "testing/decomposition_suite.h"
 
 #include <algorithm>
@@ -137,11 +139,13 @@ TEST(MergeCoplanar, GriddedBoxMergesToSixFacesWithItsSoupNotCopied) {
 
 TEST(MergeCoplanar, FirstZeroAreaPolygonIsNamedWhateverTheThreads) {
   PolygonSoup s = gridded_box(30);
-  // Two grid vertices far apart in polygon order moved onto the line of two neighbours: some
-  // triangles around each become collinear; the lowest such polygon must be named.
+  // Two grid vertices far apart in polygon order moved onto a neighbour: the triangles on the
+  // edge between them have two corners at one point; the lowest such polygon must be named.
+  // (Moved onto the midpoint of two neighbours instead, a corner makes a needle of three
+  // distinct collinear corners, which is mended: NeedleTrianglesAreDropped… below.)
   auto flatten = [&](size_t polygon) {
     const auto& t = s.polygons[polygon];
-    s.vertices[static_cast<size_t>(t[0])] = (s.vertices[t[1]] + s.vertices[t[2]]) / 2;
+    s.vertices[static_cast<size_t>(t[0])] = s.vertices[static_cast<size_t>(t[1])];
   };
   flatten(9000);
   flatten(150);
@@ -159,6 +163,74 @@ TEST(MergeCoplanar, FirstZeroAreaPolygonIsNamedWhateverTheThreads) {
               std::string::npos)
         << e.what();
   }
+}
+
+// A box 2 × 2 × 1 whose top edge from (0, 0, 1) to (2, 0, 1) has a vertex m = (1, 0, 1) on the
+// top's side (a T-junction) and, on the front's side, a needle (0,0,1)–(2,0,1)–m filling it, as a
+// mesher or float32 rounding leaves them; `offset` moves every coordinate (float32-exact).
+PolygonSoup box_with_needle(const Vec3& offset) {
+  PolygonSoup s;
+  for (const Vec3& p : {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 2, 0), Vec3(0, 2, 0), Vec3(0, 0, 1), Vec3(2, 0, 1),
+                        Vec3(2, 2, 1), Vec3(0, 2, 1), Vec3(1, 0, 1)})
+    s.vertices.push_back(p + offset);
+  s.polygons = {{0, 3, 2}, {0, 2, 1}, {4, 8, 7}, {8, 6, 7}, {8, 5, 6}, {0, 1, 5}, {0, 5, 4}, {4, 5, 8},
+                {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  return s;
+}
+
+// Issue 14 ("never fail on a valid closed mesh"): a needle, a triangle of three distinct
+// collinear corners, has no plane, and the soup was rejected ("polygon 7 has zero area"). The
+// surface is the same without it: it is dropped and its middle corner joins the edge across its
+// long side. Reference: the box itself (6 faces, volume 4, area 16, convex).
+TEST(MergeCoplanar, NeedleTrianglesAreDroppedAndTheirMiddleCornerJoinsTheEdgeAcross) {
+  for (const Vec3& offset : {Vec3(0, 0, 0), Vec3(1000, -250, 8)}) {
+    const std::vector<Body> bodies = bodies_from_soup(box_with_needle(offset));
+    ASSERT_EQ(bodies.size(), 1u);
+    EXPECT_EQ(bodies[0].face_count(), 6);
+    EXPECT_EQ(bodies[0].volume(), 4);
+    EXPECT_EQ(bodies[0].area(), 16);
+    EXPECT_TRUE(is_convex(bodies[0]));
+  }
+  // A second needle, on the bottom edge 0–1: the front's side of it is split at 9 = (1, 0, 0),
+  // the bottom's is not, and the needle 0–1–9 fills the gap. Both go.
+  PolygonSoup two = box_with_needle(Vec3::Zero());
+  two.vertices.emplace_back(1, 0, 0);  // 9, on the bottom edge 0–1
+  two.polygons[5] = {0, 9, 5};         // the front's lower triangle now ends at 9 …
+  two.polygons.push_back({9, 1, 5});   // … and a triangle from 9 reaches 1
+  two.polygons.push_back({0, 1, 9});   // the needle between them and the bottom's edge 1 → 0
+  const std::vector<Body> twice = bodies_from_soup(two);
+  ASSERT_EQ(twice.size(), 1u);
+  EXPECT_EQ(twice[0].volume(), 4);
+  EXPECT_EQ(twice[0].face_count(), 6);
+}
+
+// Where mending does not make a valid soup (here the mesh is broken elsewhere: a flipped face),
+// the error is the input's own, naming the input's polygon.
+TEST(MergeCoplanar, NeedleThatCannotBeMendedKeepsTheInputsError) {
+  PolygonSoup s = box_with_needle(Vec3::Zero());
+  std::reverse(s.polygons[12].begin(), s.polygons[12].end());  // a flipped face elsewhere
+  try {
+    bodies_from_soup(s);
+    FAIL();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("face 12 is flipped"), std::string::npos) << e.what();
+  }
+}
+
+// A needle in a surface that lies on itself elsewhere: the top's fan about a corner 9 put outside
+// the top, at (3, 1, 1), so that triangle 5 6 9 turns over. Mended, the soup merges, as it would
+// without the needle, and the self-intersection test that readers run on every body finds it.
+TEST(MergeCoplanar, NeedleInASurfaceLyingOnItselfLeavesItToTheSelfIntersectionTest) {
+  PolygonSoup fold = box_with_needle(Vec3::Zero());
+  fold.vertices.emplace_back(3, 1, 1);  // 9
+  fold.polygons[2] = {4, 8, 9};
+  fold.polygons[3] = {8, 5, 9};
+  fold.polygons[4] = {5, 6, 9};
+  fold.polygons.push_back({6, 7, 9});
+  fold.polygons.push_back({7, 4, 9});
+  const std::vector<Body> bodies = bodies_from_soup(fold);
+  ASSERT_EQ(bodies.size(), 1u);
+  EXPECT_TRUE(find_self_intersection(bodies[0]).has_value());
 }
 
 TEST(CheckPolygonMesh, PolygonsGiveTheFaceMessagesAndEachHalfEdgesTwin) {

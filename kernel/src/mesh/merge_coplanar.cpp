@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <exception>
 #include <limits>
 #include <numeric>
 #include <span>
@@ -462,8 +464,8 @@ std::vector<Body> merge_once(const PolygonSoup& input, const std::vector<int>* p
 // Snapping (see merge_once) always gives a valid body for a valid input: where the snapped
 // faces fail validation (a vertex that could not move within the tolerance, a merged face
 // that rounding leaves non-planar), the soup is merged exactly instead, as without tolerance.
-std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_ids,
-                        const MergeOptions& options) {
+std::vector<Body> merge_tolerant(const PolygonSoup& input, const std::vector<int>* plane_ids,
+                                 const MergeOptions& options) {
   if (plane_ids || !(options.coplanar_tolerance > 0) || options.planarity_tolerance >= 0)
     return merge_once(input, plane_ids, options);
   try {
@@ -472,6 +474,91 @@ std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_
     MergeOptions exact = options;
     exact.coplanar_tolerance = 0;
     return merge_once(input, plane_ids, exact);
+  }
+}
+
+// Needles: triangles whose three distinct corners are exactly collinear, the middle one strictly
+// between the others (what a mesher's filler of a T-junction is, or what float32 rounding makes
+// of a thin triangle). The surface is the same without them: each is dropped and its middle
+// corner m put into the polygon across its long side (edge b → a there becomes b → m → a), whose
+// edges then meet the needle's two short sides' neighbours. `out` is the soup so mended; false
+// when there is no needle, or one cannot be mended so (a directed edge used twice, no polygon
+// across its long side, or another needle there). Exact (collinear, coordinate comparisons);
+// cost O(n) expected for n corners. Only a soup that fails is mended (merge()).
+bool without_needles(const PolygonSoup& in, PolygonSoup& out) {
+  const auto& v = in.vertices;
+  const auto& polys = in.polygons;
+  const int n = static_cast<int>(polys.size());
+  std::unordered_map<std::uint64_t, int> owner;  // directed edge -> polygon
+  for (int p = 0; p < n; ++p) {
+    const auto& poly = polys[static_cast<size_t>(p)];
+    for (int w : poly)
+      if (w < 0 || static_cast<size_t>(w) >= v.size()) return false;
+    for (size_t i = 0; i < poly.size(); ++i)
+      if (!owner.emplace(key(poly[i], poly[(i + 1) % poly.size()]), p).second) return false;
+  }
+  // Per needle: (long side a → b in its turning order, middle corner m).
+  struct Needle {
+    int p, a, b, m;
+  };
+  std::vector<Needle> needles;
+  std::vector<char> is_needle(static_cast<size_t>(n), 0);
+  for (int p = 0; p < n; ++p) {
+    const auto& t = polys[static_cast<size_t>(p)];
+    if (t.size() != 3) continue;
+    const Vec3 &x = v[static_cast<size_t>(t[0])], &y = v[static_cast<size_t>(t[1])], &z = v[static_cast<size_t>(t[2])];
+    if (x == y || y == z || z == x || !collinear(x, y, z)) continue;
+    // Along the axis of the largest spread, distinct points of one line have distinct values.
+    int axis = 0;
+    (x.cwiseMax(y).cwiseMax(z) - x.cwiseMin(y).cwiseMin(z)).maxCoeff(&axis);
+    for (int k = 0; k < 3; ++k) {
+      const double lo = v[static_cast<size_t>(t[static_cast<size_t>((k + 1) % 3)])][axis];
+      const double hi = v[static_cast<size_t>(t[static_cast<size_t>((k + 2) % 3)])][axis];
+      const double mid = v[static_cast<size_t>(t[static_cast<size_t>(k)])][axis];
+      if ((lo < mid && mid < hi) || (hi < mid && mid < lo)) {
+        needles.push_back({p, t[static_cast<size_t>((k + 1) % 3)], t[static_cast<size_t>((k + 2) % 3)], t[static_cast<size_t>(k)]});
+        is_needle[static_cast<size_t>(p)] = 1;
+      }
+    }
+  }
+  if (needles.empty()) return false;
+  out.vertices = v;
+  out.polygons = polys;
+  for (const Needle& s : needles) {
+    const auto it = owner.find(key(s.b, s.a));
+    if (it == owner.end() || is_needle[static_cast<size_t>(it->second)]) return false;
+    auto& q = out.polygons[static_cast<size_t>(it->second)];
+    size_t i = 0;
+    while (i < q.size() && !(q[i] == s.b && q[(i + 1) % q.size()] == s.a)) ++i;
+    if (i == q.size()) return false;
+    q.insert(q.begin() + static_cast<std::ptrdiff_t>(i + 1), s.m);
+  }
+  std::vector<std::vector<int>> kept;
+  kept.reserve(out.polygons.size() - needles.size());
+  for (int p = 0; p < n; ++p)
+    if (!is_needle[static_cast<size_t>(p)]) kept.push_back(std::move(out.polygons[static_cast<size_t>(p)]));
+  out.polygons = std::move(kept);
+  return true;
+}
+
+// A soup that fails only for its needles is merged without them; any other failure, or one that
+// mending does not cure, is reported as the input's (its polygon numbers). What is not checked
+// here is not checked for any soup: a surface lying on itself is found by the self-intersection
+// test of its bodies (hedra/mesh/self_intersection.h), which readers run.
+std::vector<Body> merge(const PolygonSoup& input, const std::vector<int>* plane_ids,
+                        const MergeOptions& options) {
+  if (plane_ids) return merge_once(input, plane_ids, options);
+  try {
+    return merge_tolerant(input, plane_ids, options);
+  } catch (const InvalidInput&) {
+    const std::exception_ptr first = std::current_exception();
+    PolygonSoup mended;
+    if (!without_needles(input, mended)) throw;
+    try {
+      return merge_tolerant(mended, plane_ids, options);
+    } catch (const InvalidInput&) {
+    }
+    std::rethrow_exception(first);
   }
 }
 

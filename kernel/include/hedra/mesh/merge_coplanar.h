@@ -34,8 +34,12 @@ struct MergeOptions {
 /// returns one Body per connected component (in order of their first polygon). A triangulated
 /// box becomes one body with 6 faces; the triangulated cap of a plate with holes becomes one
 /// face with holes. Regions whose boundary touches itself at a vertex keep their polygons
-/// unmerged. \throw InvalidInput naming the input polygon or vertex (check_polygon_mesh runs
-/// on the soup first, so numbers refer to the input). Cost O(n log n).
+/// unmerged. A soup that fails only for its needles (triangles of three distinct, exactly
+/// collinear corners: T-junction fillers) is merged without them, each needle's middle corner
+/// put into the edge of the polygon across its long side (the same surface); where that does
+/// not cure it, the input's own error stands. \throw InvalidInput naming the input polygon or
+/// vertex (check_polygon_mesh runs on the soup first, so numbers refer to the input).
+/// Cost O(n log n); a soup with needles is merged twice.
 std::vector<Body> bodies_from_soup(const PolygonSoup& soup, const MergeOptions& options = {});
 
 /// As above, but the caller decides coplanarity: neighbouring polygons with equal
