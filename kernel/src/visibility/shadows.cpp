@@ -10,6 +10,7 @@
 
 #include "hedra/core/error.h"
 #include "hedra/core/parallel.h"
+#include "hedra/core/tolerance.h"
 #include "hedra/decompose/decompose.h"
 #include "hedra/mesh/convexity.h"
 #include "visibility/shadows_internal.h"
@@ -90,6 +91,7 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
     return false;
   };
   const bool front = facing(fd.plane, view) == Facing::Front;
+  const size_t first = out.size();
   index.candidates(corners, fd.centre, fd.radius, [&](int p) {
     // A convex body never hides its own faces; pieces of a non-convex one may.
     if (pieces[static_cast<size_t>(p)].body == b && bd.skips(f, p, pieces[static_cast<size_t>(p)])) return;
@@ -132,6 +134,19 @@ void ShadowScene::Impl::hidden_pieces(int b, int f, const CasterIndex& index,
         out.push_back(ring);
     });
   });
+  // Rounding debris (kShadowDebris): a piece thinner than that (mean width 2 · area / perimeter,
+  // in the face's 2D frame) is an occlusion volume that only touches the face, an ulp off it
+  // (the rounded face of a body whose exact pieces occlude: a hole's wall next to the piece of
+  // its neighbour), not a shadow. Dropped before the union, so that a face's shadow_area and
+  // its polygons (which drop such rings on output) agree.
+  const double snap = kShadowDebris * scale;
+  out.erase(std::remove_if(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
+                           [snap](const Ring2& r) {
+                             double perimeter = 0;
+                             for (size_t k = 0; k < r.size(); ++k) perimeter += (r[(k + 1) % r.size()] - r[k]).norm();
+                             return !(2 * std::abs(ring_area(r)) > snap * perimeter);
+                           }),
+            out.end());
 }
 
 bool ShadowScene::Impl::point_hidden(int b, int f, const Vec3& p, const CasterIndex& index,

@@ -55,8 +55,10 @@ constexpr double kChainJoinTolerance = 1e-12;
 /// consecutive ring vertices closer than kShadowDebris × the scene's scale are one vertex, a
 /// spike (the ring out and back along two edges that close) loses its tip, and a ring whose
 /// mean width (2 · area / perimeter) is below that is dropped (a polygon whose outer
-/// ring goes, with its holes). The areas (shadow_area, visible_shadow_area, counts) are computed
-/// before and do not depend on it; a polygon's own area moves by at most this × its perimeter.
+/// ring goes, with its holes); a polygon's own area moves by at most this × its perimeter.
+/// A clipped piece that thin (an occlusion volume only touching the face) is dropped before
+/// the union, so it adds to no area either; otherwise the areas (shadow_area,
+/// visible_shadow_area, counts) are the unions' and do not depend on it.
 constexpr double kShadowDebris = 1e-12;
 
 /// Shadow rays of the raster renderer (hedra/render/ray_shadows.h): hits closer to the probe point
