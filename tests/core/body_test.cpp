@@ -2,12 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "hedra/core/error.h"
+#include "hedra/core/face_geometry.h"
+#include "hedra/core/tolerance.h"
 #include "hedra/core/parallel.h"
 #include "hedra/core/primitives.h"
 #include "hedra/core/transform.h"
@@ -193,6 +196,21 @@ TEST(Body, RotatedFineCylinderIsPlanarWithinRounding) {
   // Read back from its corners (no exact image): the same.
   const Body read(turned.vertices(), turned.faces());
   EXPECT_EQ(read.faces_off_plane(), turned.faces_off_plane());
+  // Its sides alone as an open two-sided surface (Body::two_sided_surface, the same tolerance):
+  // the floating-point distance from the Newell plane puts some corner over it (the check this
+  // test is about), the exact one does not, so the surface is accepted.
+  std::vector<std::vector<int>> sides;
+  double worst = 0;
+  for (const Face& face : turned.faces()) {
+    if (face.loops[0].size() != 4) continue;
+    sides.push_back(face.loops[0]);
+    const Vec3 n = newell_normal(turned.vertices(), face.loops[0]).normalized();
+    const Vec3& a = turned.vertices()[static_cast<size_t>(face.loops[0][0])];
+    for (int i : face.loops[0]) worst = std::max(worst, std::abs(n.dot(turned.vertices()[static_cast<size_t>(i)] - a)));
+  }
+  const double tolerance = kRoundingPlanarity * turned.scale();
+  EXPECT_GT(worst, tolerance);
+  EXPECT_NO_THROW(Body::two_sided_surface(turned.vertices(), sides, tolerance));
   // One side's top corners lifted 1e-9 off its plane, outward: rejected, with the exact distance.
   std::vector<Vec3> v = upright.vertices();
   const Face& side = upright.faces()[5];

@@ -45,21 +45,6 @@ struct Body::Impl {
 
 namespace {
 
-// Distance of p from the plane through a, b, c (not collinear), to double precision: the
-// determinant and the normal's squared length in exact rationals, one rounding at the end.
-// Cost O(1) rational operations; only for a corner the floating-point check doubted.
-double distance_from_plane(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
-  using Q = internal::ExactKernel::FT::ET;
-  const auto diff = [](const Vec3& x, const Vec3& y) {
-    return std::array<Q, 3>{Q(x.x()) - Q(y.x()), Q(x.y()) - Q(y.y()), Q(x.z()) - Q(y.z())};
-  };
-  const auto u = diff(b, a), w = diff(c, a), d = diff(p, a);
-  const std::array<Q, 3> n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-  const Q det = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-  const Q squared = det * det / (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  return std::sqrt(CGAL::to_double(squared));
-}
-
 std::string fmt(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3g", v);

@@ -125,6 +125,18 @@ std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::
   return {a, b, c};
 }
 
+double distance_from_plane(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p) {
+  using Q = CGAL::Exact_rational;
+  const auto diff = [](const Vec3& x, const Vec3& y) {
+    return std::array<Q, 3>{Q(x.x()) - Q(y.x()), Q(x.y()) - Q(y.y()), Q(x.z()) - Q(y.z())};
+  };
+  const auto u = diff(b, a), w = diff(c, a), d = diff(p, a);
+  const std::array<Q, 3> n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+  const Q det = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+  const Q squared = det * det / (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  return std::sqrt(CGAL::to_double(squared));
+}
+
 std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vector<int>& loop,
                                double planarity, std::array<int, 3>* support, Vec3* normal,
                                bool* off_plane) {
@@ -146,7 +158,8 @@ std::string convex_face_defect(const std::vector<Vec3>& vertices, const std::vec
   for (size_t i = 0; i < n; ++i) {
     const Vec3& p = at(loop[i]);
     if (orient3d(a, b, c, p) != Sign::Zero) {
-      if (!(planarity > 0 && std::abs(unit_normal.dot(p - a)) <= planarity))
+      if (!(planarity > 0 && (std::abs(unit_normal.dot(p - a)) <= planarity ||
+                              distance_from_plane(a, b, c, p) <= planarity)))
         return "is not planar: vertex " + std::to_string(i) + " is off its plane";
       if (off_plane) *off_plane = true;
     }

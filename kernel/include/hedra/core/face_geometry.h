@@ -47,6 +47,13 @@ std::array<int, 3> support_triple(const std::vector<Vec3>& vertices, const std::
 std::array<std::array<int, 3>, 2> convex_quad_split(const Vec3& q0, const Vec3& q1, const Vec3& q2,
                                                     const Vec3& q3);
 
+/// Distance of p from the plane through a, b, c (not collinear), to double precision: the
+/// determinant and the normal's squared length in exact rationals, one rounding at the end.
+/// The planarity checks take it where the floating-point distance from a face's fitted plane
+/// exceeds their tolerance: that plane tilts by about ε · length / width on a long thin face
+/// (a fine cylinder's side, moved). Cost O(1) rational operations.
+double distance_from_plane(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& p);
+
 /// A convex polygon planar only within rounding (a rotated cylinder's cap read back from a
 /// file) as triangles (positions in its loop, each in the loop's turning order) whose surface
 /// is convex toward the outside: every diagonal between two triangles has the far corner of the
