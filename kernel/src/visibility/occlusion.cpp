@@ -283,8 +283,21 @@ std::vector<FaceTriangle> front_triangles_of(const Body& body, std::span<const F
 
 std::optional<Body> exactly_planar_convex(const Body& body) {
   if (body.faces_off_plane().empty() || body.two_sided()) return std::nullopt;
-  const auto& v = body.vertices();
-  const auto p = [&v](int i) -> const Vec3& { return v[static_cast<size_t>(i)]; };
+  std::vector<std::vector<std::array<int, 3>>> splits(body.faces().size());
+  for (int f : body.faces_off_plane()) {
+    const Face& face = body.faces()[static_cast<size_t>(f)];
+    if (face.loops.size() != 1) return std::nullopt;
+    std::vector<Vec3> corners;
+    corners.reserve(face.loops[0].size());
+    for (int i : face.loops[0]) corners.push_back(body.vertices()[static_cast<size_t>(i)]);
+    splits[static_cast<size_t>(f)] = convex_polygon_split(corners);
+  }
+  return exactly_planar_convex(body, splits);
+}
+
+std::optional<Body> exactly_planar_convex(const Body& body,
+                                          std::span<const std::vector<std::array<int, 3>>> splits) {
+  if (body.faces_off_plane().empty() || body.two_sided()) return std::nullopt;
   std::vector<Face> faces;
   faces.reserve(body.faces().size() + body.faces_off_plane().size());
   for (int f = 0; f < body.face_count(); ++f) {
@@ -293,17 +306,13 @@ std::optional<Body> exactly_planar_convex(const Body& body) {
       faces.push_back(face);
       continue;
     }
-    if (face.loops.size() != 1) return std::nullopt;
+    const std::vector<std::array<int, 3>>& split = splits[static_cast<size_t>(f)];
+    if (face.loops.size() != 1 || split.empty()) return std::nullopt;
     const auto& q = face.loops[0];
-    std::vector<Vec3> corners;
-    corners.reserve(q.size());
-    for (int i : q) corners.push_back(p(i));
-    const std::vector<std::array<int, 3>> split = convex_polygon_split(corners);
-    if (split.empty()) return std::nullopt;
     for (const auto& t : split)
       faces.push_back(Face{q[static_cast<size_t>(t[0])], q[static_cast<size_t>(t[1])], q[static_cast<size_t>(t[2])]});
   }
-  Body split(v, std::move(faces));
+  Body split(body.vertices(), std::move(faces));
   if (certify_convexity(split) != ConvexityCertificate::Convex) return std::nullopt;
   return split;
 }

@@ -176,10 +176,10 @@ ShadowFace make_face(const Body& body, int f) {
     // Off its plane and convex: its triangles (convex_polygon_split, as a convex body's
     // occluder, exactly_planar_convex, takes them), each on its own plane.
     const auto& c = fd.corners;
-    const std::vector<std::array<int, 3>> split = convex_polygon_split(c);
-    if (!split.empty()) {
+    fd.split = convex_polygon_split(c);
+    if (!fd.split.empty()) {
       fd.convex = false;
-      for (const auto& k : split) {
+      for (const auto& k : fd.split) {
         const std::array<Vec3, 3> t{c[static_cast<size_t>(k[0])], c[static_cast<size_t>(k[1])], c[static_cast<size_t>(k[2])]};
         fd.parts.push_back({t[0], t[1], t[2]});
         fd.part_planes.push_back(triangle_plane(t));

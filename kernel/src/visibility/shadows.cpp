@@ -230,7 +230,12 @@ ShadowScene::ShadowScene(const Scene& scene, Occluders occluders) : impl_(std::m
       // faces, not their support planes, an ulp off it.
       // Its faces in body order, each face off its plane as its triangles in the order of
       // convex_polygon_split: the planes the faces already have (ShadowFace::part_planes).
-      std::optional<Body> split = exactly_planar_convex(bd.body);
+      std::optional<Body> split;
+      if (!bd.body.faces_off_plane().empty()) {
+        std::vector<std::vector<std::array<int, 3>>> splits(bd.faces.size());
+        for (size_t f = 0; f < bd.faces.size(); ++f) splits[f] = std::move(bd.faces[f].split);
+        split = exactly_planar_convex(bd.body, splits);
+      }
       std::vector<ExactPlane> planes;
       planes.reserve(split ? static_cast<size_t>(split->face_count()) : bd.faces.size());
       for (const ShadowFace& fd : bd.faces) {

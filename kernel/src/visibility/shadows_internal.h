@@ -51,6 +51,9 @@ struct ShadowFace {
   // body convex (convex_polygon_split, exactly_planar_convex's), each on its own exact plane here, so that the
   // face receives on the surface that occludes; empty: every part lies on `plane`.
   std::vector<ExactPlane> part_planes;
+  // Those triangles as positions in `corners` (convex_polygon_split's), for the body's convex
+  // piece (exactly_planar_convex), which then need not cut the face again.
+  std::vector<std::array<int, 3>> split;
   // Strictly on the outer side of the face (of one of its parts' planes): a point that can lie
   // between the viewpoint and some point of the face. Exact.
   bool outside(const Vec3& p) const {

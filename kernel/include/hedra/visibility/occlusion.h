@@ -161,6 +161,10 @@ inline bool pieces_exactly_convex(const Decomposition& d) {
 /// strictly convex in projection), or the result is not certified convex (then its support
 /// planes stand). Cost O(F) (a Body and its convexity certificate) plus the splits.
 std::optional<Body> exactly_planar_convex(const Body& convex_body);
+/// The same with the splits made already: splits[f] is convex_polygon_split of face f's outer
+/// loop for each face off its plane (empty: not cut), as the shadows' faces have them. Cost O(F).
+std::optional<Body> exactly_planar_convex(const Body& convex_body,
+                                          std::span<const std::vector<std::array<int, 3>>> splits);
 
 /// The triangles of a body's faces (Occluders::Faces): for each face f with wanted[f] (all
 /// faces when `wanted` is empty), the triangles Body::triangles() lists for it, in that order,
