@@ -46,9 +46,11 @@ std::vector<ConvexClipper> decomposed_pieces(const std::string& path,
     }
     try {
       // Each piece as its exact planes where the decomposition gives them (nothing rounded),
-      // else the rounded piece.
+      // else the rounded piece. A moved body's exact image, or a file's rotated part's plane
+      // solid, gives every piece exactly convex (DecomposeOptions::prefer_exact_solid).
       DecomposeOptions options;
       options.exact_pieces = true;
+      options.prefer_exact_solid = true;
       const Decomposition d = decompose(body, options);
       for (size_t k = 0; k < d.pieces.size(); ++k) {
         if (k < d.exact_pieces.size() && !d.exact_pieces[k].faces.empty())

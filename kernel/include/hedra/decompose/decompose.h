@@ -40,14 +40,24 @@ struct DecomposeOptions {
   /// construction (the solid's corners they round) and its faces on them (the solid's faces
   /// they round): hidden lines and shadows decide incidence with the rounded body's edges
   /// through them, as with the guarded run's model.
+  /// A body with no solid whose faces are planar only within rounding (Body::faces_off_plane():
+  /// a rotated part read from OFF, OBJ or PLY) has its plane solid stand in as a moved body's
+  /// exact image does (below, and past a cut budget of 8·V + 4096): each face on one exact
+  /// plane — faces coplanar within the rounding guard share one, through three input vertices —
+  /// and each vertex off one of its planes moved to where its planes meet exactly (three of
+  /// them, concurrent with the rest; the foot on the line of two, or on the plane of one), by
+  /// at most 16 guards (kRoundingPlanarity × scale each). Where a vertex's planes do not meet in
+  /// one point (a torus's quadrilaterals, four planes at a vertex) there is none, and the body
+  /// is cut in the guarded model as before. Cost of making it O(V + T) exact constructions.
   bool from_exact_solid = true;
-  /// With from_exact_solid: cut a moved body from its exact image whenever it has one (a body
-  /// with exactly planar faces moved by an affine map), not only past the guarded run's cut
-  /// budget. Every piece is then exactly convex, so its consumers clip against the exact piece
+  /// With from_exact_solid: cut a moved body from its exact image (a body with exactly planar
+  /// faces moved by an affine map), or a file's rotated part from its plane solid, whenever it
+  /// has one, not only past the guarded run's cut budget. Every piece is then exactly convex, so its consumers clip against the exact piece
   /// (Decomposition::exact_pieces), never a rounded one; the guarded run's exact pieces of a
   /// rotated body fold by an ulp across its quadrilaterals and mostly have none. Costs 1.3–4×
-  /// the guarded run on the benchmark's rotated shapes (milliseconds). Hidden lines and shadows
-  /// set it.
+  /// the guarded run on the benchmark's rotated shapes (milliseconds). Hidden lines, shadows and
+  /// `clip`'s midpoint method set it (the first two occlude by a file's rotated part's
+  /// triangles, Occluders::Auto, without decomposing it).
   bool prefer_exact_solid = false;
 };
 
@@ -138,7 +148,8 @@ struct Decomposition {
   /// and CGAL's slivers whose corners coincide after rounding (decompose_cgal). Not in
   /// `pieces`.
   int degenerate_pieces = 0;
-  /// The pieces are those of the body's exact solid (DecomposeOptions::from_exact_solid).
+  /// The pieces are those of the body's exact solid, or of its plane solid
+  /// (DecomposeOptions::from_exact_solid).
   bool from_exact_solid = false;
 };
 
@@ -162,6 +173,9 @@ std::vector<Body> merge_convex(const std::vector<Body>& pieces, int* merges = nu
 /// Where that model of the input contradicts itself (features at the guard's scale: a failed
 /// cut, a failed verification, a fold the guard hides), the input itself is decomposed with
 /// the exact planes of its triangles and exact sides only: a second run, more pieces.
+/// A Boolean's result is cut from its exact solid, a moved body from its exact image, and a
+/// file's rotated part (faces planar only within rounding) from its plane solid, where those
+/// stand (DecomposeOptions::from_exact_solid, prefer_exact_solid).
 /// A convex input comes back as one piece, unchanged. Deterministic for any thread count.
 /// Rounding, once at the end: each piece is the exact piece rounded to double with its faces
 /// merged by plane; where rounding breaks a face (slivers of cuts through nearly coplanar
