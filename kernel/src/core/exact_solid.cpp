@@ -6,12 +6,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <algorithm>
+#include <numeric>
 #include <optional>
+#include <unordered_map>
 #include <utility>
 
 #include "hedra/core/error.h"
 
 #include "hedra/core/predicates.h"
+#include "hedra/core/tolerance.h"
 
 namespace hedra::internal {
 
@@ -117,6 +121,152 @@ std::shared_ptr<const ExactSolid> moved_exactly(const Body& body, const Transfor
         if (orient3d(v[s[0]], v[s[1]], v[s[2]], v[w]) != Sign::Zero) return nullptr;
   }
   return pending_image(body.vertices(), body, t);
+}
+
+namespace {
+
+// How far plane_solid() may move a vertex, in rounding guards: a vertex lies within one guard
+// of each of its faces' planes, and where its planes meet at angles down to about 4° their
+// intersection is within 16 guards of it.
+constexpr double kPlaneSolidReach = 16;
+// Cells of unit normals for plane_solid()'s lookup of planes met before.
+constexpr double kNormalCell = 1e-3;
+
+long normal_cell(double x) { return static_cast<long>(std::floor(x / kNormalCell)); }
+
+std::uint64_t normal_key(long x, long y, long z) {
+  const auto part = [](long c) { return static_cast<std::uint64_t>(c) & 0x1fffff; };
+  return part(x) << 42 | part(y) << 21 | part(z);
+}
+
+}  // namespace
+
+std::shared_ptr<const ExactSolid> plane_solid(const Body& body) {
+  if (body.faces_off_plane().empty() || body.two_sided()) return nullptr;
+  using PL = ExactKernel::Plane_3;
+  const auto& v = body.vertices();
+  const double guard = kRoundingPlanarity * body.scale();
+  const auto exact = [](const Vec3& p) { return P3(p.x(), p.y(), p.z()); };
+  // The planes: per plane its first face's outward double plane and exact support plane.
+  struct Group {
+    int creator;
+    Plane approx;
+    PL plane;
+  };
+  std::vector<Group> groups;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells;
+  std::vector<int> group(static_cast<size_t>(body.face_count()));
+  for (int f = 0; f < body.face_count(); ++f) {
+    const Plane outward = body.plane(f).flipped();
+    const Vec3 n = outward.normal();
+    const auto& s = body.support(f);
+    const Vec3 &a = v[static_cast<size_t>(s[0])], &b = v[static_cast<size_t>(s[1])], &c = v[static_cast<size_t>(s[2])];
+    // A plane with the support triangle within the guard turns from its normal by at most
+    // about 2·guard over the triangle's smallest height (as decompose's grouping).
+    const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const double eps = 8 * guard / ((b - a).cross(c - a).norm() / longest) + 1e-9;
+    std::vector<int> candidates;
+    if (!(eps < kNormalCell / 4)) {
+      candidates.resize(groups.size());
+      std::iota(candidates.begin(), candidates.end(), 0);
+    } else {
+      for (long ix = normal_cell(n.x() - eps); ix <= normal_cell(n.x() + eps); ++ix)
+        for (long iy = normal_cell(n.y() - eps); iy <= normal_cell(n.y() + eps); ++iy)
+          for (long iz = normal_cell(n.z() - eps); iz <= normal_cell(n.z() + eps); ++iz)
+            if (auto it = cells.find(normal_key(ix, iy, iz)); it != cells.end())
+              candidates.insert(candidates.end(), it->second.begin(), it->second.end());
+      std::sort(candidates.begin(), candidates.end());
+    }
+    int found = -1;
+    for (int g : candidates) {
+      const Plane& p = groups[static_cast<size_t>(g)].approx;
+      if (p.normal().dot(n) < 0.5) continue;
+      bool same = true;
+      for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
+        for (int w : loop) same = same && std::abs(p.value(v[static_cast<size_t>(w)])) <= guard;
+      if (same) {
+        found = g;
+        break;
+      }
+    }
+    if (found < 0) {
+      found = static_cast<int>(groups.size());
+      groups.push_back({f, outward, PL(exact(a), exact(b), exact(c))});
+      cells[normal_key(normal_cell(n.x()), normal_cell(n.y()), normal_cell(n.z()))].push_back(found);
+    }
+    group[static_cast<size_t>(f)] = found;
+  }
+  // Per vertex, its planes, and whether it lies on all of them exactly.
+  std::vector<std::vector<int>> on(v.size());
+  std::vector<char> loose(v.size(), 0);
+  for (int f = 0; f < body.face_count(); ++f) {
+    const int g = group[static_cast<size_t>(f)];
+    const auto& s = body.support(groups[static_cast<size_t>(g)].creator);
+    for (const auto& loop : body.faces()[static_cast<size_t>(f)].loops)
+      for (int w : loop) {
+        auto& list = on[static_cast<size_t>(w)];
+        const auto at = std::lower_bound(list.begin(), list.end(), g);
+        if (at != list.end() && *at == g) continue;
+        list.insert(at, g);
+        if (orient3d(v[static_cast<size_t>(s[0])], v[static_cast<size_t>(s[1])], v[static_cast<size_t>(s[2])],
+                     v[static_cast<size_t>(w)]) != Sign::Zero)
+          loose[static_cast<size_t>(w)] = 1;
+      }
+  }
+  auto solid = std::make_shared<ExactSolid>();
+  solid->points.reserve(v.size());
+  const double reach = kPlaneSolidReach * guard;
+  const auto normal = [&](int g) { return groups[static_cast<size_t>(g)].approx.normal(); };
+  const auto plane = [&](int g) -> const PL& { return groups[static_cast<size_t>(g)].plane; };
+  for (size_t i = 0; i < v.size(); ++i) {
+    const P3 p = exact(v[i]);
+    if (!loose[i]) {
+      solid->points.push_back(p);
+      continue;
+    }
+    const std::vector<int>& planes = on[i];
+    P3 q;
+    if (planes.size() == 1) {
+      q = plane(planes[0]).projection(p);
+    } else {
+      // The best-conditioned pair, then third (a plane through p across their line for two).
+      const int a = planes[0];
+      int b = -1;
+      double best = -1;
+      for (int c : planes)
+        if (c != a && normal(a).cross(normal(c)).norm() > best) best = normal(a).cross(normal(c)).norm(), b = c;
+      PL third(p, CGAL::cross_product(plane(a).orthogonal_vector(), plane(b).orthogonal_vector()));
+      if (planes.size() > 2) {
+        const Vec3 ab = normal(a).cross(normal(b));
+        int c3 = -1;
+        best = -1;
+        for (int c : planes)
+          if (c != a && c != b && std::abs(ab.dot(normal(c))) > best) best = std::abs(ab.dot(normal(c))), c3 = c;
+        third = plane(c3);
+      }
+      const auto meet = CGAL::intersection(plane(a), plane(b), third);
+      if (!meet) return nullptr;
+      const P3* point = boost::get<P3>(&*meet);
+      if (!point) return nullptr;
+      q = *point;
+      for (int c : planes)
+        if (plane(c).oriented_side(q) != CGAL::ON_ORIENTED_BOUNDARY) return nullptr;
+    }
+    const Vec3 moved(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
+    if (!((moved - v[i]).norm() <= reach)) return nullptr;
+    solid->points.push_back(q);
+  }
+  // Every triangle turning as its plane, outward.
+  solid->triangles = triangles_of(body);
+  for (const ExactSolid::Tri& t : solid->triangles) {
+    const P3 &a = solid->points[static_cast<size_t>(t.v[0])], &b = solid->points[static_cast<size_t>(t.v[1])],
+             &c = solid->points[static_cast<size_t>(t.v[2])];
+    if (CGAL::sign(CGAL::cross_product(b - a, c - a) * plane(group[static_cast<size_t>(t.face)]).orthogonal_vector()) !=
+        CGAL::POSITIVE)
+      return nullptr;
+  }
+  solid->rounded = true;  // its corners off the doubles are not the body's vertices
+  return solid;
 }
 
 void attach_translated_image(Body& body, std::vector<Vec3> corners, const Vec3& offset) {

@@ -1056,88 +1056,6 @@ Decomposition run(const Body& body, const DecomposeOptions& options, Context& ct
   return out;
 }
 
-// How far plane_solid() may move a vertex, in rounding guards (Context::guard): a vertex lies
-// within one guard of each of its faces' planes, and where its planes meet at angles down to
-// about 4° their intersection is within 16 guards of it. Beyond, the solid is not the body
-// within rounding, and the body is decomposed as before.
-constexpr double kPlaneSolidReach = 16;
-
-// The exactly planar solid that a body whose faces are planar only within rounding stands for
-// (Body::faces_off_plane(): a rotated part written as doubles to OFF, OBJ or PLY), in the
-// guarded run's own model of it. Each canonical plane of piece_of(body) — faces coplanar within
-// the rounding guard share one, through three input vertices of the first such face — is exact;
-// each vertex that lies on one of its faces' planes only within the guard (Point::loose) is
-// replaced by the exact point where its planes meet: three of them, the best conditioned, where
-// it has three or more, the others required to pass through that point exactly; the foot of the
-// perpendicular from the vertex on the line of two planes, or on the plane of one. Every other
-// vertex stays the input's double, exactly on its planes already. Every face is then exactly
-// planar, on its canonical plane, and its triangles (Body::triangles()) are the solid's.
-// nullptr where that solid is not the body within rounding: planes that do not meet in one
-// point at a vertex (a rotated torus's quadrilaterals, four planes at each vertex), a vertex
-// moved by more than kPlaneSolidReach guards, or a triangle turned over or flattened by the
-// move. Cost O(V + T) lazy exact constructions and orientation tests; O(V) to give up at the
-// first vertex that fails.
-std::shared_ptr<const ExactSolid> plane_solid(const Body& body) {
-  Context ctx;
-  const Piece whole = piece_of(body, ctx);
-  const double reach = kPlaneSolidReach * ctx.guard;
-  auto solid = std::make_shared<ExactSolid>();
-  solid->points.resize(whole.pts.size());
-  const auto normal = [&](int c) { return ctx.approx[static_cast<size_t>(c)].normal(); };
-  for (size_t i = 0; i < whole.pts.size(); ++i) {
-    const Point& pt = whole.pts[i];
-    if (pt.loose.empty()) {
-      solid->points[i] = pt.p;
-      continue;
-    }
-    const std::vector<int>& on = pt.on;
-    P3 q;
-    if (on.size() == 1) {
-      q = ctx.planes[static_cast<size_t>(on[0])].projection(pt.p);
-    } else {
-      const int a = on[0];
-      int b = -1;
-      double best = -1;
-      for (int c : on)
-        if (c != a && normal(a).cross(normal(c)).norm() > best) best = normal(a).cross(normal(c)).norm(), b = c;
-      const PL& pa = ctx.planes[static_cast<size_t>(a)];
-      const PL& pb = ctx.planes[static_cast<size_t>(b)];
-      PL third(pt.p, CGAL::cross_product(pa.orthogonal_vector(), pb.orthogonal_vector()));
-      if (on.size() > 2) {
-        int c3 = -1;
-        best = -1;
-        const Vec3 ab = normal(a).cross(normal(b));
-        for (int c : on)
-          if (c != a && c != b && std::abs(ab.dot(normal(c))) > best) best = std::abs(ab.dot(normal(c))), c3 = c;
-        third = ctx.planes[static_cast<size_t>(c3)];
-      }
-      const auto meet = CGAL::intersection(pa, pb, third);
-      if (!meet) return nullptr;
-      const P3* p = boost::get<P3>(&*meet);
-      if (!p) return nullptr;
-      q = *p;
-      for (int c : on)
-        if (ctx.planes[static_cast<size_t>(c)].oriented_side(q) != CGAL::ON_ORIENTED_BOUNDARY) return nullptr;
-    }
-    const Vec3 moved(CGAL::to_double(q.x()), CGAL::to_double(q.y()), CGAL::to_double(q.z()));
-    if (!((moved - pt.input).norm() <= reach)) return nullptr;
-    solid->points[i] = q;
-  }
-  const auto& tris = body.triangles();
-  solid->triangles.reserve(tris.size());
-  for (size_t t = 0; t < tris.size(); ++t) {
-    const Tri& tri = whole.tris[t];
-    const P3 &a = solid->points[static_cast<size_t>(tri.v[0])], &b = solid->points[static_cast<size_t>(tri.v[1])],
-             &c = solid->points[static_cast<size_t>(tri.v[2])];
-    const CGAL::Sign turn =
-        CGAL::sign(CGAL::cross_product(b - a, c - a) * ctx.planes[static_cast<size_t>(tri.plane)].orthogonal_vector());
-    if (static_cast<int>(turn) != tri.sign) return nullptr;  // turned over, or flat
-    solid->triangles.push_back({tri.v, tris[t].face});
-  }
-  solid->rounded = true;  // its corners off the doubles are not the body's vertices
-  return solid;
-}
-
 }  // namespace
 
 bool InputPlanes::on(int c, int v, const Vec3& p) const {
@@ -1192,7 +1110,7 @@ Decomposition decompose(const Body& body, const DecomposeOptions& options) {
   // 1392 (0.22 s). On the benchmark's rotated shapes the guarded run stays under the budget
   // (at most 563 cut points, the rotated plate with 10 × 10 holes), and stays the faster.
   // A body read from a file whose faces are planar only within rounding (a rotated part) has no
-  // solid of its own: the exactly planar solid of the guarded model (plane_solid()) stands in
+  // solid of its own: its plane solid (core/exact_solid.h, the guarded model made exact) stands in
   // for it where a moved body's exact image would be used — first where exact pieces are
   // preferred, else past the guarded run's cut budget — made at most once.
   std::shared_ptr<const ExactSolid> exact_solid = body.exact_solid();
