@@ -43,7 +43,8 @@ struct DecomposeOptions {
   /// A body with no solid whose faces are planar only within rounding (Body::faces_off_plane():
   /// a rotated part read from OFF, OBJ or PLY) has its plane solid stand in as a moved body's
   /// exact image does (below, and past a cut budget of 8·V + 4096): each face on one exact
-  /// plane — faces coplanar within the rounding guard share one, through three input vertices —
+  /// plane — faces coplanar within the rounding guard, with one orientation, share one, through
+  /// three input vertices (core/exact_solid.h) —
   /// and each vertex off one of its planes moved to where its planes meet exactly (three of
   /// them, concurrent with the rest; the foot on the line of two, or on the plane of one), by
   /// at most 16 guards (kRoundingPlanarity × scale each). Where a vertex's planes do not meet in
