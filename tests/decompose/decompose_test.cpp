@@ -798,7 +798,7 @@ TEST(Decompose, SuiteReadBackIsCutFromItsPlaneSolid) {
 }
 
 // Issue 14: a rotated 400-point star prism read back from a file took 112 s to decompose (and
-// 800 MB): its caps, folded by rounding, are hundreds of triangles with planes of their own in
+// 250 MB): its caps, folded by rounding, are hundreds of triangles with planes of their own in
 // the guarded run, which every cut crosses, so the exact cut points grow quadratically, as they
 // did for the moved prism before its exact image was cut instead. A file's body has no image;
 // its plane solid, whose caps are exactly planar, takes over past the guarded run's budget
