@@ -1,5 +1,5 @@
 // Round trips (issue 14, item 6): for every format hedra writes (OFF, OBJ, PLY, STL ASCII, STL
-// binary float32, scene JSON), `convert` and then info, decompose, hlr, shadows and render give
+// binary float32, scene JSON), `convert` and then info, decompose, clip, hlr, shadows and render give
 // the original's results within the rounding of the format. The original is a scene whose camera
 // and light are those a mesh file gets (cli/info.h, load_scene), so that a mesh written from it
 // is seen the same way; it holds a non-convex prism, a box rotated by a generic angle (rounded
@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -44,6 +45,10 @@ struct Results {
   double volume = 0, area = 0, pieces_volume = 0;
   double visible = 0, hidden = 0;           // hidden-line lengths (3D)
   double cast = 0, self = 0;                // shadow areas
+  // Segments clipped against every body: parts and their total length, exact method and
+  // midpoint method (the latter against the decomposition's exact pieces).
+  int parts = 0, midpoint_parts = 0;
+  double clipped = 0, midpoint_clipped = 0;
   int width = 0, height = 0;
   std::vector<uint8_t> rgb;
 };
@@ -95,6 +100,32 @@ Results results_of(const fs::path& file, const fs::path& dir, const std::string&
   const nlohmann::json parsed_face = nlohmann::json::parse(read(sj));
   for (const auto& face : parsed_face["lights"][0]["faces"])
     (face["self_shadowed"].get<bool>() ? r.self : r.cast) += face["shadow_area"].get<double>();
+  // 60 seeded segments across the scene's box, through the L prism's pieces and the rotated box.
+  const fs::path segments = dir / "segments.txt", parts = dir / "parts.txt";
+  {
+    std::ofstream out(segments);
+    out.precision(17);
+    unsigned state = 20261208;
+    const auto next = [&](double lo, double hi) {
+      state = state * 1664525u + 1013904223u;
+      return lo + (hi - lo) * static_cast<double>(state >> 8) / static_cast<double>(1u << 24);
+    };
+    for (int k = 0; k < 60; ++k)
+      out << next(-3, 8) << " " << next(-3, 7) << " " << next(-1, 2.5) << " " << next(-3, 8) << " "
+          << next(-3, 7) << " " << next(-1, 2.5) << "\n";
+  }
+  for (const char* method : {"cyrus-beck", "midpoint"}) {
+    auto cl = run_hedra("clip --method " + std::string(method) + " --body " + f + " --segments " + segments.string() +
+                        " -o " + parts.string());
+    EXPECT_EQ(cl.code, 0) << file << ": " << cl.err;
+    std::ifstream in(parts);
+    double x[7];
+    const bool midpoint = std::string(method) == "midpoint";
+    while (in >> x[0] >> x[1] >> x[2] >> x[3] >> x[4] >> x[5] >> x[6]) {
+      ++(midpoint ? r.midpoint_parts : r.parts);
+      (midpoint ? r.midpoint_clipped : r.clipped) += std::hypot(x[3] - x[0], x[4] - x[1], x[5] - x[2]);
+    }
+  }
   // Flat shading: a curved primitive's analytic normals are not part of any mesh format.
   auto rd = run_hedra("render --shading flat --width 240 --height 180 -o " + png.string() + " " + f);
   EXPECT_EQ(rd.code, 0) << file << ": " << rd.err;
@@ -130,6 +161,15 @@ void expect_same(const Results& want, const Results& got, double rel, double pix
   near(want.hidden, got.hidden, "hidden length");
   near(want.cast, got.cast, "cast shadow area");
   near(want.self, got.self, "self-shadowed area");
+  EXPECT_EQ(got.parts, want.parts) << what;
+  EXPECT_EQ(got.midpoint_parts, want.midpoint_parts) << what;
+  near(want.clipped, got.clipped, "clipped length");
+  // Midpoint subdivision ends each part within ε = 1e-9 of the body's size (about 15 here) of
+  // the exact end, each decision on the pieces it was given: the scene's (a moved body's exact
+  // image) and the file's (its plane solid) are one solid within rounding, so the ends agree
+  // within 2ε, 60 segments' worth.
+  EXPECT_NEAR(got.midpoint_clipped, want.midpoint_clipped, std::max(rel * want.midpoint_clipped, 60 * 2 * 2 * 15e-9))
+      << what << ": midpoint clipped length";
   EXPECT_LE(pixels_differing(want, got), pixels) << what << ": rendered image";
 }
 
@@ -163,6 +203,9 @@ TEST_F(RoundTrip, OriginalIsNonTrivial) {
   EXPECT_GT(original_->visible, 10);
   EXPECT_GT(original_->hidden, 1);
   EXPECT_GT(original_->cast, 1);
+  EXPECT_GT(original_->parts, 30);
+  EXPECT_EQ(original_->midpoint_parts, original_->parts);
+  EXPECT_NEAR(original_->midpoint_clipped, original_->clipped, 60 * 2 * 15e-9);
 }
 
 // Exact formats that store polygons: coordinates as written by %.17g (or JSON's shortest round
