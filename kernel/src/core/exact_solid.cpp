@@ -235,7 +235,9 @@ std::shared_ptr<const ExactSolid> plane_solid(const Body& body) {
       double best = -1;
       for (int c : planes)
         if (c != a && normal(a).cross(normal(c)).norm() > best) best = normal(a).cross(normal(c)).norm(), b = c;
-      PL third(p, CGAL::cross_product(plane(a).orthogonal_vector(), plane(b).orthogonal_vector()));
+      const auto along = CGAL::cross_product(plane(a).orthogonal_vector(), plane(b).orthogonal_vector());
+      if (CGAL::is_zero(along.squared_length())) return nullptr;  // one plane twice: no line
+      PL third(p, along);
       if (planes.size() > 2) {
         const Vec3 ab = normal(a).cross(normal(b));
         int c3 = -1;
