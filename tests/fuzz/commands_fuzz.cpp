@@ -87,6 +87,11 @@ void commands(const Scene& scene) {
         DecomposeOptions options;
         options.threads = 1;
         for (const Body& p : decompose(b->body, options).pieces) pieces.emplace_back(p);
+        // As `clip --method midpoint` asks: exact pieces, cut from a moved body's exact image
+        // or a file's rotated part's plane solid (core/exact_solid.h) where it has one.
+        options.exact_pieces = true;
+        options.prefer_exact_solid = true;
+        (void)decompose(b->body, options);
       });
     }
     const Eigen::AlignedBox3d box = b->body.bbox();

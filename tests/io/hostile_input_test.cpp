@@ -140,6 +140,22 @@ TEST(HostileIo, TolerancesBelowDoublePrecisionAreRejected) {
 // Fuzz finding (tests/fuzz/commands_fuzz.cpp): a prism hole with a vertex on the outline made
 // a body pinched along a vertical edge, accepted but written as an OFF file hedra rejects
 // ("not closed"). Touching loops are refused; a hole strictly inside still builds.
+// Fuzz finding: a prism whose outline has a vertex on another of its edges (pinched at (0, 1))
+// was accepted as given and, rotated, rejected as self-intersecting once written to a scene file
+// and read back. A loop that touches or crosses itself is rejected where the prism is made, as a
+// hole touching the outline is.
+TEST(HostileIo, PrismOutlineTouchingOrCrossingItselfIsRejected) {
+  std::string m = message_of([&] { prism({{0, 0}, {3, 0}, {4, 1}, {0, 1}, {1, 3}, {0, 4}}, 0, 2); });
+  EXPECT_EQ(m, "prism outline touches itself at (0, 1)");
+  m = message_of([&] { prism({{0, 0}, {3, 3}, {3, 0}, {0, 2}}, 0, 1); });
+  EXPECT_EQ(m.rfind("prism outline crosses itself near (", 0), 0u) << m;
+  const Polygon2 square{{0, 0}, {3, 0}, {3, 3}, {0, 3}};
+  m = message_of([&] { prism(square, 0, 1, {{{1, 1}, {2, 1}, {1.5, 1.5}, {2, 2}, {1.5, 1}, {1, 2}}}); });
+  EXPECT_EQ(m.rfind("prism hole 0 ", 0), 0u) << m;
+  // A simple outline with a vertex close to (not on) another edge stays a valid prism.
+  EXPECT_NEAR(prism({{0, 0}, {3, 0}, {4, 1}, {1e-9, 1}, {1, 3}, {0, 4}}, 0, 2).volume(), 10, 1e-6);
+}
+
 TEST(HostileIo, PrismHoleTouchingItsOutlineIsRejected) {
   const Polygon2 square{{0, 0}, {3, 0}, {3, 3}, {0, 3}};
   std::string m = message_of([&] { prism(square, 0, 1, {{{0, 1}, {2, 1}, {2, 2}, {1, 2}}}); });

@@ -60,10 +60,17 @@ TEST(MeshIo, RoundTripEveryFormat) {
 // Regression (fuzz finding, CI of stop 20): an L whose vertex (0, 1) lies on the edge
 // (0, 3)–(0, 0), rotated 30° about z, has a bottom-face triangle 1e-17 of its size wide. Its
 // rounded Newell normal was zero, so hedra rejected its own ASCII STL: "polygon 1 has zero area".
+// `prism` now refuses an outline that touches itself (HostileIo), so the body is made as a mesh
+// file gives it: its faces as they are.
 TEST(MeshIo, SliverTriangleOfARotatedFaceReadsBack) {
   const fs::path dir = temp_dir();
-  const Body l = prism({{0, 0}, {3, 0}, {4, 1}, {0, 1}, {1, 3}, {0, 3}}, 0, 2)
-                     .transformed(Transform::rotation_z(30));
+  const Polygon2 outline = {{0, 0}, {3, 0}, {4, 1}, {0, 1}, {1, 3}, {0, 3}};
+  std::vector<Vec3> corners;
+  for (double z : {0.0, 2.0})
+    for (const Vec2& p : outline) corners.emplace_back(p.x(), p.y(), z);
+  std::vector<Face> faces = {Face{5, 4, 3, 2, 1, 0}, Face{6, 7, 8, 9, 10, 11}};
+  for (int i = 0; i < 6; ++i) faces.push_back(Face{i, (i + 1) % 6, (i + 1) % 6 + 6, i + 6});
+  const Body l = Body(corners, faces).transformed(Transform::rotation_z(30));
   for (const char* name : {"l.off", "l.obj", "l.ply", "ascii.stl"}) {
     const std::string path = (dir / name).string();
     io::WriteOptions options;
