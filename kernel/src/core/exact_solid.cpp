@@ -7,11 +7,10 @@
 #include <cstdint>
 #include <cstring>
 #include <algorithm>
-#include <numeric>
 #include <optional>
-#include <unordered_map>
 #include <utility>
 
+#include "core/normal_index.h"
 #include "hedra/core/error.h"
 
 #include "hedra/core/predicates.h"
@@ -129,15 +128,6 @@ namespace {
 // of each of its faces' planes, and where its planes meet at angles down to about 4° their
 // intersection is within 16 guards of it.
 constexpr double kPlaneSolidReach = 16;
-// Cells of unit normals for plane_solid()'s lookup of planes met before.
-constexpr double kNormalCell = 1e-3;
-
-long normal_cell(double x) { return static_cast<long>(std::floor(x / kNormalCell)); }
-
-std::uint64_t normal_key(long x, long y, long z) {
-  const auto part = [](long c) { return static_cast<std::uint64_t>(c) & 0x1fffff; };
-  return part(x) << 42 | part(y) << 21 | part(z);
-}
 
 }  // namespace
 
@@ -154,7 +144,7 @@ std::shared_ptr<const ExactSolid> plane_solid(const Body& body) {
     PL plane;
   };
   std::vector<Group> groups;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells;
+  NormalIndex normals;  // of the groups' planes
   std::vector<int> group(static_cast<size_t>(body.face_count()));
   for (int f = 0; f < body.face_count(); ++f) {
     const Plane outward = body.plane(f).flipped();
@@ -165,20 +155,8 @@ std::shared_ptr<const ExactSolid> plane_solid(const Body& body) {
     // about 2·guard over the triangle's smallest height (as decompose's grouping).
     const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
     const double eps = 8 * guard / ((b - a).cross(c - a).norm() / longest) + 1e-9;
-    std::vector<int> candidates;
-    if (!(eps < kNormalCell / 4)) {
-      candidates.resize(groups.size());
-      std::iota(candidates.begin(), candidates.end(), 0);
-    } else {
-      for (long ix = normal_cell(n.x() - eps); ix <= normal_cell(n.x() + eps); ++ix)
-        for (long iy = normal_cell(n.y() - eps); iy <= normal_cell(n.y() + eps); ++iy)
-          for (long iz = normal_cell(n.z() - eps); iz <= normal_cell(n.z() + eps); ++iz)
-            if (auto it = cells.find(normal_key(ix, iy, iz)); it != cells.end())
-              candidates.insert(candidates.end(), it->second.begin(), it->second.end());
-      std::sort(candidates.begin(), candidates.end());
-    }
     int found = -1;
-    for (int g : candidates) {
+    for (int g : normals.near(n, eps, false)) {
       const Plane& p = groups[static_cast<size_t>(g)].approx;
       if (p.normal().dot(n) < 0.5) continue;
       bool same = true;
@@ -192,7 +170,7 @@ std::shared_ptr<const ExactSolid> plane_solid(const Body& body) {
     if (found < 0) {
       found = static_cast<int>(groups.size());
       groups.push_back({f, outward, PL(exact(a), exact(b), exact(c))});
-      cells[normal_key(normal_cell(n.x()), normal_cell(n.y()), normal_cell(n.z()))].push_back(found);
+      normals.add(n);
     }
     group[static_cast<size_t>(f)] = found;
   }

@@ -91,41 +91,12 @@ const PL* own_plane(const Context& ctx, const std::vector<Point>& pts, const std
 
 namespace {
 
-constexpr double kNormalCell = 1e-3;
-
-std::uint64_t normal_key(long ix, long iy, long iz) {
-  auto u = [](long i) { return static_cast<std::uint64_t>(i + 4096) & 0x1fffff; };
-  return (u(ix) << 42) | (u(iy) << 21) | u(iz);
-}
-
-long normal_cell(double x) { return static_cast<long>(std::floor(x / kNormalCell)); }
-
 // The planes met before whose unit normal lies within `eps` (per component) of n or −n,
-// ascending; every plane when eps is not small against the cells.
+// ascending; every plane when eps is not small against the cells (NormalIndex).
 std::vector<int> planes_near(Context& ctx, const Vec3& n, double eps) {
-  for (; ctx.indexed < ctx.approx.size(); ++ctx.indexed) {
-    const Vec3 m = ctx.approx[ctx.indexed].normal();
-    ctx.normal_cells[normal_key(normal_cell(m.x()), normal_cell(m.y()), normal_cell(m.z()))]
-        .push_back(static_cast<int>(ctx.indexed));
-  }
-  std::vector<int> out;
-  if (!(eps < kNormalCell / 4)) {
-    out.resize(ctx.approx.size());
-    std::iota(out.begin(), out.end(), 0);
-    return out;
-  }
-  for (double sign : {1.0, -1.0}) {
-    const Vec3 m = sign * n;
-    for (long ix = normal_cell(m.x() - eps); ix <= normal_cell(m.x() + eps); ++ix)
-      for (long iy = normal_cell(m.y() - eps); iy <= normal_cell(m.y() + eps); ++iy)
-        for (long iz = normal_cell(m.z() - eps); iz <= normal_cell(m.z() + eps); ++iz) {
-          auto it = ctx.normal_cells.find(normal_key(ix, iy, iz));
-          if (it != ctx.normal_cells.end()) out.insert(out.end(), it->second.begin(), it->second.end());
-        }
-  }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
+  while (static_cast<size_t>(ctx.normals.size()) < ctx.approx.size())
+    ctx.normals.add(ctx.approx[static_cast<size_t>(ctx.normals.size())].normal());
+  return ctx.normals.near(n, eps, true);
 }
 
 P3 exact(const Vec3& p) { return P3(p.x(), p.y(), p.z()); }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/exact_solid.h"
+#include "core/normal_index.h"
 #include "hedra/core/body.h"
 
 namespace hedra::internal {
@@ -42,10 +43,9 @@ struct Context {
   double epsilon = 0;  // absolute, in world units
   // Pieces are simplified after every cut (simplify()); off in the fallback runs of decompose().
   bool simplify = true;
-  // Index of `approx` by unit normal (cells of kNormalCell, filled lazily up to `indexed`), so
-  // that piece_of() finds a face's plane among the planes met before without scanning them all.
-  std::unordered_map<std::uint64_t, std::vector<int>> normal_cells;
-  size_t indexed = 0;
+  // Index of `approx` by unit normal (filled lazily), so that piece_of() finds a face's plane
+  // among the planes met before without scanning them all.
+  NormalIndex normals;
   // A work budget for a run that has an alternative (decompose(): a moved body's exact
   // image): the exact cut points split() may make in all, 0 for no limit. Past it split()
   // throws CutBudgetExceeded; cut_points counts them (only where there is a budget: one
